@@ -1,0 +1,41 @@
+// Contour bindings (core/include/conecull/contour/): per-node loops and Alg. 1 on one loop.
+#include "conecull/contour/contour_test.hpp"
+#include "stages.hpp"
+
+namespace conecull::bind {
+
+py::dict contour_arrays(const Contours& c) {
+    py::dict d;
+    d["status"] = to_numpy(c.status);
+    d["offsets"] = to_numpy(c.offsets);
+    d["vertices"] = to_numpy(c.vertices);
+    d["components"] = to_numpy(c.components);
+    return d;
+}
+
+void bind_contour(py::module_& m) {
+    m.def(
+        "contour_test",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+            require_shape(V, "V", -1, 3);
+            if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
+            if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
+            for (py::ssize_t i = 0; i < loop.shape(0); ++i)
+                if (loop.data()[i] < 0 || loop.data()[i] >= V.shape(0)) throw py::value_error("loop: index out of range");
+            const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
+            const ContourVerdict v =
+                unprojected_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis);
+            py::dict d;
+            d["passed"] = v.passed();
+            d["reason"] = static_cast<int>(v.reason);
+            d["edge"] = v.edge;
+            d["crossings"] = v.crossings;
+            d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
+            d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
+            return d;
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"),
+        "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,).");
+}
+
+}  // namespace conecull::bind

@@ -1,0 +1,55 @@
+// AABB BVH over the triangles (Sec. 5.1: "We use AABBs as the underlying bounding volume"),
+// built top-down once from the first pose and refit bottom-up for every query.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "conecull/cone/normal_cone.hpp"
+#include "conecull/mesh/topology.hpp"
+#include "conecull/vec3.hpp"
+
+namespace conecull {
+
+struct Aabb {
+    Vec3 lo, hi;
+    // Closed boxes: boxes that only touch still overlap, as touching triangles collide.
+    bool overlaps(const Aabb& o) const {
+        return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y &&
+               lo.z <= o.hi.z && o.lo.z <= hi.z;
+    }
+};
+
+// Nodes in pre-order: the left child of node i is i + 1, so children always follow their
+// parent and a reverse sweep refits bottom-up.
+struct BvhNode {
+    Aabb box;           // 48 B
+    int32_t right = -1; // right child, -1 for a leaf
+    int32_t begin = 0;  // triangle range [begin, end) in Bvh::order
+    int32_t end = 0;
+    int32_t depth = 0;
+    bool is_leaf() const { return right < 0; }
+};
+static_assert(sizeof(BvhNode) == 64, "BvhNode: box 48 B + 4 int32 = one cache line");
+
+struct Bvh {
+    std::vector<BvhNode> nodes;
+    std::vector<int32_t> order;  // triangle ids in leaf order; node ranges index into it
+    int32_t leaf_size = 1;
+
+    static int32_t left(int32_t i) { return i + 1; }
+    int32_t size() const { return static_cast<int32_t>(nodes.size()); }
+    const BvhNode& operator[](int32_t i) const { return nodes[i]; }
+};
+
+// Object-median split along the longest axis of the centroids' box.
+Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size);
+
+// Refit boxes from positions V (n, 3); O(nodes).
+void refit_boxes(Bvh& bvh, const Topology& topo, const double* V);
+
+// Normal cones for every node from positions V: leaves merge their triangles' cones, inner
+// nodes their children's.
+void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones);
+
+}  // namespace conecull

@@ -1,0 +1,57 @@
+// SelfCollider: the per-mesh state kept between queries (topology, BVH, contours) and the DCD
+// query (Sec. 4.1's three stages: update BVs and normal cones; traverse with normal cone
+// culling; elementary tests).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "conecull/bvh/bvh.hpp"
+#include "conecull/contour/contour.hpp"
+#include "conecull/mesh/topology.hpp"
+#include "conecull/traversal/self_collide.hpp"
+#include "conecull/traversal/stats.hpp"
+
+namespace conecull {
+
+enum class Method { kAabb, kNc };
+
+Method parse_method(const std::string& name);  // throws std::invalid_argument
+const char* method_name(Method m);
+
+struct DcdResult {
+    std::vector<TrianglePair> pairs;  // i < j, sorted lexicographically
+    DcdStats stats;
+};
+
+class SelfCollider {
+   public:
+    SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size);
+
+    // V: (n_vertices, 3) float64, row-major, validated by the caller. The BVH and contours are
+    // built from the first pose given.
+    DcdResult dcd(const double* V);
+
+    bool built() const { return built_; }
+    Method method() const { return method_; }
+    const Topology& topology() const { return *topo_; }
+    const Bvh& bvh() const { return bvh_; }
+    const Contours& contours() const { return contours_; }
+    const std::vector<NormalCone>& cones() const { return cones_; }
+
+   private:
+    void build(const double* V);
+
+    std::shared_ptr<const Topology> topo_;
+    Method method_;
+    int32_t leaf_size_;
+    bool built_ = false;
+    Bvh bvh_;
+    Contours contours_;
+    std::vector<NormalCone> cones_;
+    std::vector<TrianglePair> candidates_;  // reused between queries
+};
+
+}  // namespace conecull

@@ -1,0 +1,25 @@
+// Counters of one query. Kept in the traversal object (locals of the query), returned once.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+namespace conecull {
+
+struct DcdStats {
+    int64_t bv_tests = 0;            // box-box overlap tests of Collide(A, B)
+    int64_t self_tests = 0;          // SelfCollide(N) calls on internal nodes (or multi-triangle leaves)
+    int64_t cone_tests = 0;          // ApexAngle(C_N) < pi checks (Alg. 2 line 5)
+    int64_t cone_passed = 0;
+    int64_t contour_ineligible = 0;  // cone passed, but the node has no single simple contour
+    int64_t contour_tests = 0;       // Alg. 1 runs
+    int64_t contour_passed = 0;      // nodes culled
+    int64_t contour_failed = 0;
+    std::array<int64_t, 6> contour_reasons{};  // by ContourReason
+    int64_t contour_edges = 0;       // contour edges visited by Alg. 1
+    int64_t elementary_tests = 0;
+    int64_t colliding_pairs = 0;
+    double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;
+};
+
+}  // namespace conecull

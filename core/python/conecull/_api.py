@@ -1,0 +1,185 @@
+"""The Python façade over conecull._core: validation with clear errors, NumPy in and out."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from conecull import _core
+
+METHODS = ("aabb", "nc")
+
+# The exact predicates stay exact while no product of coordinate differences under- or
+# overflows; this range leaves ample room (degree-4 terms within 2^-1000 .. 2^530).
+_COORD_MIN = 2.0**-128
+_COORD_MAX = 2.0**128
+
+
+def _as_faces(faces) -> np.ndarray:
+    a = np.asarray(faces)
+    if a.size == 0 and a.dtype.kind in "iufb":  # an empty mesh, whatever the literal's dtype
+        return np.zeros((0, 3), dtype=np.int32)
+    if a.dtype.kind not in "iu":
+        raise ValueError(f"faces: expected an integer array, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"faces: expected shape (m, 3), got {a.shape}")
+    if a.min() < 0:
+        r = int(np.argmin(a.min(axis=1)))
+        raise ValueError(f"faces: negative vertex index {int(a[r].min())} in row {r}")
+    if a.max() >= 2**31 - 1:
+        raise ValueError(f"faces: vertex index {int(a.max())} does not fit in 31 bits")
+    rep = (a[:, 0] == a[:, 1]) | (a[:, 1] == a[:, 2]) | (a[:, 0] == a[:, 2])
+    if rep.any():
+        r = int(np.argmax(rep))
+        raise ValueError(f"faces: row {r} repeats a vertex: {a[r].tolist()}")
+    return np.ascontiguousarray(a, dtype=np.int32)
+
+
+def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
+    a = np.asarray(V)
+    if a.dtype.kind != "f":
+        raise ValueError(f"{name}: expected a float64 (or float32) array, got dtype {a.dtype}")
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"{name}: expected shape (n, 3), got {a.shape}")
+    if a.shape[0] != n_vertices:
+        raise ValueError(f"{name}: has {a.shape[0]} rows but the mesh has {n_vertices} vertices")
+    a = np.ascontiguousarray(a, dtype=np.float64)
+    if a.size:
+        finite = np.isfinite(a)
+        if not finite.all():
+            r, c = np.argwhere(~finite)[0]
+            raise ValueError(f"{name}: non-finite coordinate {a[r, c]} at row {r}, column {c}")
+        mag = np.abs(a)
+        bad = (mag > _COORD_MAX) | ((mag < _COORD_MIN) & (mag > 0))
+        if bad.any():
+            r, c = np.argwhere(bad)[0]
+            raise ValueError(
+                f"{name}: coordinate {a[r, c]!r} at row {r}, column {c} is outside the supported range: "
+                "non-zero magnitudes must lie in [2^-128, 2^128] for the predicates to stay exact (rescale the mesh)"
+            )
+    return a
+
+
+class Mesh:
+    """Topology of a triangle mesh (any triangle soup), built once; positions come per query.
+
+    faces: (m, 3) integer vertex ids, three distinct ids per row.
+    n_vertices: number of vertices (default: largest id + 1).
+    """
+
+    def __init__(self, faces, n_vertices: int | None = None):
+        f = _as_faces(faces)
+        needed = int(f.max()) + 1 if f.size else 0
+        if n_vertices is None:
+            n_vertices = needed
+        elif isinstance(n_vertices, (bool, np.bool_)) or not isinstance(n_vertices, (int, np.integer)):
+            raise ValueError(f"n_vertices: expected an integer, got {type(n_vertices).__name__}")
+        elif n_vertices < needed:
+            raise ValueError(f"n_vertices: {n_vertices} is smaller than the largest face index + 1 ({needed})")
+        self._topo = _core.build_topology(f, int(n_vertices))
+
+    @property
+    def n_vertices(self) -> int:
+        return self._topo.n_vertices
+
+    @property
+    def n_faces(self) -> int:
+        return self._topo.n_faces
+
+    @property
+    def faces(self) -> np.ndarray:
+        """(m, 3) int64 vertex ids."""
+        return self._topo.faces.astype(np.int64)
+
+    @property
+    def edges(self) -> np.ndarray:
+        """(E, 2) int64 unique edges, each row i < j, rows sorted; the row index is the edge id."""
+        return self._topo.edges.astype(np.int64)
+
+    @property
+    def face_edges(self) -> np.ndarray:
+        """(m, 3) edge ids of (f0, f1), (f1, f2), (f2, f0)."""
+        return self._topo.face_edges.astype(np.int64)
+
+    @property
+    def edge_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR (offsets (E+1,), face ids): faces of edge e are ids[offsets[e]:offsets[e+1]]."""
+        return self._topo.edge_face_offsets.astype(np.int64), self._topo.edge_face_ids.astype(np.int64)
+
+    @property
+    def vertex_faces(self) -> tuple[np.ndarray, np.ndarray]:
+        """CSR (offsets (n+1,), face ids) of the faces around each vertex."""
+        return self._topo.vertex_face_offsets.astype(np.int64), self._topo.vertex_face_ids.astype(np.int64)
+
+    @property
+    def boundary_edges(self) -> np.ndarray:
+        """Ids of edges with exactly one face."""
+        return self._topo.boundary_edges.astype(np.int64)
+
+    @property
+    def nonmanifold_edges(self) -> np.ndarray:
+        """Ids of edges with more than two faces, or two faces traversing them the same way."""
+        return np.flatnonzero(self._topo.edge_nonmanifold)
+
+    @property
+    def nonmanifold_vertices(self) -> np.ndarray:
+        """Ids of vertices whose faces are not a single fan (or that lie on a non-manifold edge)."""
+        return np.flatnonzero(self._topo.vertex_nonmanifold)
+
+    @property
+    def face_component(self) -> np.ndarray:
+        """(m,) component label of each face (faces connected through shared vertices)."""
+        return self._topo.face_component.astype(np.int64)
+
+    @property
+    def n_components(self) -> int:
+        return self._topo.n_components
+
+    def __repr__(self) -> str:
+        return f"Mesh(n_vertices={self.n_vertices}, n_faces={self.n_faces}, n_edges={self._topo.n_edges})"
+
+
+@dataclass
+class DcdResult:
+    pairs: np.ndarray
+    """(k, 2) int64 colliding triangle ids, i < j, rows sorted lexicographically."""
+    stats: dict = field(default_factory=dict)
+    """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs) and seconds per stage."""
+
+
+class SelfCollider:
+    """Self-collision queries on one mesh; keeps the BVH and contours between queries.
+
+    The BVH is built from the first pose queried and refit afterwards (topology never changes).
+    method: "aabb" (BVH only) or "nc" (normal cones + unprojected contour test, Alg. 2).
+    leaf_size: triangles per BVH leaf (1 is fastest here; see the benchmark).
+    """
+
+    def __init__(self, mesh: Mesh, method: str = "nc", leaf_size: int = 1):
+        if not isinstance(mesh, Mesh):
+            raise ValueError(f"mesh: expected a conecull.Mesh, got {type(mesh).__name__}")
+        if not isinstance(method, str) or method not in METHODS:
+            raise ValueError(f"method: expected one of {METHODS}, got {method!r}")
+        if isinstance(leaf_size, (bool, np.bool_)) or not isinstance(leaf_size, (int, np.integer)) or not 1 <= leaf_size <= 64:
+            raise ValueError(f"leaf_size: expected an integer in [1, 64], got {leaf_size!r}")
+        self.mesh = mesh
+        self.method = method
+        self.leaf_size = int(leaf_size)
+        self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size)
+
+    def dcd(self, V) -> DcdResult:
+        """Discrete self-collision query at positions V (n, 3)."""
+        a = _as_positions(V, self.mesh.n_vertices)
+        pairs, stats = self._core.dcd(a)
+        return DcdResult(pairs=pairs, stats=stats)
+
+    # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
+    def bvh_arrays(self) -> dict:
+        return self._core.bvh_arrays()
+
+    def cone_arrays(self) -> dict:
+        return self._core.cone_arrays()
+
+    def contour_arrays(self) -> dict:
+        return self._core.contour_arrays()

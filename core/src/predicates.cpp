@@ -1,0 +1,52 @@
+// Exact fallbacks of the filtered predicates in predicates/orient.hpp.
+#include "conecull/predicates/orient.hpp"
+
+namespace conecull::detail {
+
+using namespace conecull::exact;
+
+namespace {
+
+// det[[p0 p1 p2]; [q0 q1 q2]; [r0 r1 r2]] (rows p, q, r) = p . (q x r), for expansions.
+template <int P, int Q, int R>
+int det3_sign(const Expansion<P> (&p)[3], const Expansion<Q> (&q)[3], const Expansion<R> (&r)[3]) {
+    const auto c0 = sub(mul(q[1], r[2]), mul(q[2], r[1]));
+    const auto c1 = sub(mul(q[2], r[0]), mul(q[0], r[2]));
+    const auto c2 = sub(mul(q[0], r[1]), mul(q[1], r[0]));
+    const auto s = add(add(mul(p[0], c0), mul(p[1], c1)), mul(p[2], c2));
+    return sign(s);
+}
+
+}  // namespace
+
+int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    // ((b - a) x (c - a)) . (d - a) = det[d - a; b - a; c - a]
+    const Expansion<2> da[3] = {difference(d.x, a.x), difference(d.y, a.y), difference(d.z, a.z)};
+    const Expansion<2> ba[3] = {difference(b.x, a.x), difference(b.y, a.y), difference(b.z, a.z)};
+    const Expansion<2> ca[3] = {difference(c.x, a.x), difference(c.y, a.y), difference(c.z, a.z)};
+    return det3_sign(da, ba, ca);
+}
+
+int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+    const auto l = mul(difference(bx, ax), difference(cy, ay));
+    const auto r = mul(difference(by, ay), difference(cx, ax));
+    return sign(sub(l, r));
+}
+
+int side_sign_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& l) {
+    // ((a - c) x (b - c)) . l = det[l; a - c; b - c]
+    const Expansion<1> ll[3] = {value(l.x), value(l.y), value(l.z)};
+    const Expansion<2> p[3] = {difference(a.x, c.x), difference(a.y, c.y), difference(a.z, c.z)};
+    const Expansion<2> q[3] = {difference(b.x, c.x), difference(b.y, c.y), difference(b.z, c.z)};
+    return det3_sign(ll, p, q);
+}
+
+int ray_side_sign_exact(const Vec3& v, const Vec3& o, const Vec3& r, const Vec3& l) {
+    // (r x (v - o)) . l = det[l; r; v - o]
+    const Expansion<1> ll[3] = {value(l.x), value(l.y), value(l.z)};
+    const Expansion<1> rr[3] = {value(r.x), value(r.y), value(r.z)};
+    const Expansion<2> w[3] = {difference(v.x, o.x), difference(v.y, o.y), difference(v.z, o.z)};
+    return det3_sign(ll, rr, w);
+}
+
+}  // namespace conecull::detail

@@ -1,0 +1,228 @@
+#include "conecull/elementary/triangle_triangle.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <utility>
+
+#include "conecull/predicates/orient.hpp"
+
+namespace conecull {
+
+namespace {
+
+// An axis whose coordinate plane shows triangle (a, b, c) non-degenerate, with the sign of the
+// projected orientation there, or -1 if a, b, c are collinear. Tries the axis of the largest
+// floating-point normal component first, which is the one that succeeds in practice.
+std::pair<int, int> projection_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 n = cross(b - a, c - a);
+    const double an[3] = {std::fabs(n.x), std::fabs(n.y), std::fabs(n.z)};
+    int first = an[0] >= an[1] && an[0] >= an[2] ? 0 : (an[1] >= an[2] ? 1 : 2);
+    for (int t = 0; t < 3; ++t) {
+        const int k = (first + t) % 3;
+        const int s = orient2d_drop(k, a, b, c);
+        if (s != 0) return {k, s};
+    }
+    return {-1, 0};
+}
+
+struct P2 {
+    double x, y;
+};
+P2 drop(int k, const Vec3& v) { return {v[(k + 1) % 3], v[(k + 2) % 3]}; }
+int orient(const P2& a, const P2& b, const P2& c) { return orient2d(a.x, a.y, b.x, b.y, c.x, c.y); }
+bool in_box(const P2& p, const P2& q, const P2& x) {
+    return std::min(p.x, q.x) <= x.x && x.x <= std::max(p.x, q.x) && std::min(p.y, q.y) <= x.y &&
+           x.y <= std::max(p.y, q.y);
+}
+
+// Closed 2D segments; degenerate ones (points) included.
+bool segments_meet_2d(const P2& p, const P2& q, const P2& a, const P2& b) {
+    const int d1 = orient(a, b, p), d2 = orient(a, b, q), d3 = orient(p, q, a), d4 = orient(p, q, b);
+    if (d1 * d2 < 0 && d3 * d4 < 0) return true;
+    return (d1 == 0 && in_box(a, b, p)) || (d2 == 0 && in_box(a, b, q)) || (d3 == 0 && in_box(p, q, a)) ||
+           (d4 == 0 && in_box(p, q, b));
+}
+
+// Closed 2D triangle (non-degenerate) contains x.
+bool point_in_triangle_2d(const P2& a, const P2& b, const P2& c, const P2& x) {
+    const int d1 = orient(a, b, x), d2 = orient(b, c, x), d3 = orient(c, a, x);
+    return (d1 >= 0 && d2 >= 0 && d3 >= 0) || (d1 <= 0 && d2 <= 0 && d3 <= 0);
+}
+
+// Axis along which not all of the points share a coordinate, or -1 if they coincide.
+int spread_axis(std::initializer_list<Vec3> pts) {
+    for (int k = 0; k < 3; ++k) {
+        const double v0 = pts.begin()->operator[](k);
+        for (const Vec3& p : pts)
+            if (p[k] != v0) return k;
+    }
+    return -1;
+}
+
+// The hull of collinear a, b, c as a segment [lo, hi] (possibly a point).
+std::pair<Vec3, Vec3> collinear_hull(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const int k = spread_axis({a, b, c});
+    if (k < 0) return {a, a};
+    Vec3 lo = a, hi = a;
+    for (const Vec3& v : {b, c}) {
+        if (v[k] < lo[k]) lo = v;
+        if (v[k] > hi[k]) hi = v;
+    }
+    return {lo, hi};
+}
+
+// Direction x - v (x != v) enters triangle (v, c, d) at its vertex v: v + s (x - v) lies in the
+// triangle for some s > 0.
+bool enters_at_vertex(const Vec3& x, const Vec3& v, const Vec3& c, const Vec3& d) {
+    const auto [k, s] = projection_axis(v, c, d);
+    if (k >= 0) {
+        if (orient3d(v, c, d, x) != 0) return false;
+        const P2 V = drop(k, v), C = drop(k, c), D = drop(k, d), X = drop(k, x);
+        // Inside the wedge between v->c and v->d (angle < pi), boundary rays included.
+        return orient(V, C, X) * s >= 0 && orient(V, X, D) * s >= 0;
+    }
+    // Degenerate triangle: a segment (or the point v). x - v must point along v->c or v->d.
+    for (const Vec3& w : {c, d}) {
+        if (w == v) continue;
+        if (!collinear(v, w, x)) return false;
+        const int a = spread_axis({v, w});
+        if ((x[a] > v[a]) == (w[a] > v[a])) return true;
+    }
+    return false;
+}
+
+// (closed segment [p, q]) n (closed triangle (v, c, d)) is not inside {v}.
+bool segment_meets_triangle_beyond(const Vec3& p, const Vec3& q, const Vec3& v, const Vec3& c, const Vec3& d) {
+    if (!point_on_segment(v, p, q)) return segment_meets_triangle(p, q, v, c, d);
+    // v is on the segment and in the triangle; the intersection is a sub-segment through v,
+    // larger than {v} iff it leaves v towards p or towards q.
+    return (!(p == v) && enters_at_vertex(p, v, c, d)) || (!(q == v) && enters_at_vertex(q, v, c, d));
+}
+
+bool strictly_one_side(int a, int b, int c) { return (a > 0 && b > 0 && c > 0) || (a < 0 && b < 0 && c < 0); }
+
+bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
+    // Plane rejection: one triangle strictly on one side of the other's plane.
+    if (strictly_one_side(orient3d(P[0], P[1], P[2], Q[0]), orient3d(P[0], P[1], P[2], Q[1]),
+                          orient3d(P[0], P[1], P[2], Q[2])))
+        return false;
+    if (strictly_one_side(orient3d(Q[0], Q[1], Q[2], P[0]), orient3d(Q[0], Q[1], Q[2], P[1]),
+                          orient3d(Q[0], Q[1], Q[2], P[2])))
+        return false;
+    for (int i = 0; i < 3; ++i) {
+        if (segment_meets_triangle(P[i], P[(i + 1) % 3], Q[0], Q[1], Q[2])) return true;
+        if (segment_meets_triangle(Q[i], Q[(i + 1) % 3], P[0], P[1], P[2])) return true;
+    }
+    return false;
+}
+
+// P = (v, a, b), Q = (v, c, d).
+bool collide_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
+    const Vec3 &v = P[0];
+    // If c and d lie strictly on one side of P's plane, Q meets that plane only at v.
+    const int oc = orient3d(P[0], P[1], P[2], Q[1]), od = orient3d(P[0], P[1], P[2], Q[2]);
+    if (oc * od > 0) return false;
+    const int oa = orient3d(Q[0], Q[1], Q[2], P[1]), ob = orient3d(Q[0], Q[1], Q[2], P[2]);
+    if (oa * ob > 0) return false;
+    for (int i = 0; i < 3; ++i) {
+        if (segment_meets_triangle_beyond(P[i], P[(i + 1) % 3], v, Q[1], Q[2])) return true;
+        if (segment_meets_triangle_beyond(Q[i], Q[(i + 1) % 3], v, P[1], P[2])) return true;
+    }
+    return false;
+}
+
+// P = (a, b, c), Q = (a, b, d): shared edge [a, b].
+bool collide_shared_edge(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    // Not coplanar: the planes meet in line ab, and each triangle meets it in [a, b] only.
+    if (orient3d(a, b, c, d) != 0) return false;
+    if (a == b) {
+        // Both are segments from a: they overlap beyond a iff c, d leave a the same way.
+        if (c == a || d == a || !collinear(a, c, d)) return false;
+        const int k = spread_axis({a, c});
+        return (c[k] > a[k]) == (d[k] > a[k]);
+    }
+    const bool c_on = collinear(a, b, c), d_on = collinear(a, b, d);
+    if (c_on && d_on) {
+        // All on line ab: intervals; they overlap beyond a or beyond b.
+        const int k = spread_axis({a, b});
+        const double ta = std::min(a[k], b[k]), tb = std::max(a[k], b[k]);
+        return (c[k] < ta && d[k] < ta) || (c[k] > tb && d[k] > tb);
+    }
+    // One is a segment on line ab: the other triangle meets that line in [a, b] only.
+    if (c_on || d_on) return false;
+    // Coplanar, both proper: they overlap iff c and d are on the same side of line ab.
+    const auto [k, s] = projection_axis(a, b, c);
+    return orient2d_drop(k, a, b, d) == s;
+}
+
+}  // namespace
+
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) { return projection_axis(a, b, c).first < 0; }
+
+bool point_on_segment(const Vec3& x, const Vec3& p, const Vec3& q) {
+    for (int k = 0; k < 3; ++k)
+        if (x[k] < std::min(p[k], q[k]) || x[k] > std::max(p[k], q[k])) return false;
+    return collinear(p, q, x);
+}
+
+bool segment_meets_segment(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b) {
+    if (orient3d(p, q, a, b) != 0) return false;
+    // Coplanar: project along an axis that keeps their common plane (or line) injective.
+    for (const auto& tri : {std::array<Vec3, 3>{p, q, a}, {p, q, b}, {a, b, p}, {a, b, q}}) {
+        const int k = projection_axis(tri[0], tri[1], tri[2]).first;
+        if (k >= 0) return segments_meet_2d(drop(k, p), drop(k, q), drop(k, a), drop(k, b));
+    }
+    // All four collinear: compare intervals along an axis where they spread.
+    const int k = spread_axis({p, q, a, b});
+    if (k < 0) return true;
+    return std::max(std::min(p[k], q[k]), std::min(a[k], b[k])) <= std::min(std::max(p[k], q[k]), std::max(a[k], b[k]));
+}
+
+bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const auto [k, s] = projection_axis(a, b, c);
+    if (k < 0) {
+        const auto [lo, hi] = collinear_hull(a, b, c);
+        return segment_meets_segment(p, q, lo, hi);
+    }
+    const int op = orient3d(a, b, c, p), oq = orient3d(a, b, c, q);
+    if (op * oq > 0) return false;
+    if (op == 0 && oq == 0) {
+        const P2 A = drop(k, a), B = drop(k, b), C = drop(k, c), Pp = drop(k, p), Qq = drop(k, q);
+        return point_in_triangle_2d(A, B, C, Pp) || point_in_triangle_2d(A, B, C, Qq) ||
+               segments_meet_2d(Pp, Qq, A, B) || segments_meet_2d(Pp, Qq, B, C) || segments_meet_2d(Pp, Qq, C, A);
+    }
+    // The segment crosses the plane at one point; it is in the triangle iff the line pq passes
+    // on the same side of all three edges (signed volumes; zero on an edge).
+    const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);
+    return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+bool triangles_collide(const int32_t fp[3], const Vec3 P[3], const int32_t fq[3], const Vec3 Q[3]) {
+    int sp[3], sq[3], shared = 0;  // shared corners: sp[k] in P matches sq[k] in Q
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (fp[i] == fq[j]) {
+                sp[shared] = i;
+                sq[shared] = j;
+                ++shared;
+            }
+    switch (shared) {
+        case 0:
+            return collide_no_shared(P, Q);
+        case 1: {
+            const int i = sp[0], j = sq[0];
+            const Vec3 Pr[3] = {P[i], P[(i + 1) % 3], P[(i + 2) % 3]};
+            const Vec3 Qr[3] = {Q[j], Q[(j + 1) % 3], Q[(j + 2) % 3]};
+            return collide_shared_vertex(Pr, Qr);
+        }
+        case 2: {
+            const int c = 3 - sp[0] - sp[1], d = 3 - sq[0] - sq[1];
+            return collide_shared_edge(P[sp[0]], P[sp[1]], P[c], Q[d]);
+        }
+        default:
+            return false;
+    }
+}
+
+}  // namespace conecull
