@@ -100,11 +100,14 @@ Contours build_contours(const Bvh& bvh, const Topology& topo) {
             components = node.end - node.begin;
         } else {
             const int32_t l = Bvh::left(i), r = node.right;
-            const auto worst = std::max(c.status[l], c.status[r]);
             // A child that is non-manifold or inconsistent makes every ancestor so too.
-            if (worst == static_cast<uint8_t>(ContourStatus::kNonManifold) ||
-                worst == static_cast<uint8_t>(ContourStatus::kInconsistentEdge)) {
-                status = static_cast<ContourStatus>(worst);
+            const auto poisoned = [&](ContourStatus s) {
+                return c.status[l] == static_cast<uint8_t>(s) || c.status[r] == static_cast<uint8_t>(s);
+            };
+            if (poisoned(ContourStatus::kNonManifold)) {
+                status = ContourStatus::kNonManifold;
+            } else if (poisoned(ContourStatus::kInconsistentEdge)) {
+                status = ContourStatus::kInconsistentEdge;
             } else {
                 hes = std::move(boundary[l]);
                 hes.insert(hes.end(), boundary[r].begin(), boundary[r].end());

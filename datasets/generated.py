@@ -1,0 +1,118 @@
+"""Small analytic mesh generators and deforming sequences (kinematic: no simulation).
+
+Used by the demo, the benchmark and the tests until the scene registry of the datasets issue
+lands. Every function is deterministic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
+    """A flat (nx x ny)-vertex grid in the z = 0 plane, consistently oriented (+z normals).
+
+    Returns faces (2 (nx-1)(ny-1), 3) int64 and positions (nx*ny, 3) float64.
+    """
+    if nx < 2 or ny < 2:
+        raise ValueError(f"nx, ny: need at least 2 vertices per side, got {nx}, {ny}")
+    xs = np.linspace(0.0, width, nx)
+    ys = np.linspace(0.0, height, ny)
+    X, Y = np.meshgrid(xs, ys)  # (ny, nx)
+    V = np.column_stack([X.ravel(), Y.ravel(), np.zeros(nx * ny)])
+    i, j = np.meshgrid(np.arange(ny - 1), np.arange(nx - 1), indexing="ij")
+    a = (i * nx + j).ravel()
+    b, c, d = a + 1, a + nx, a + nx + 1
+    F = np.empty((2 * a.size, 3), dtype=np.int64)
+    F[0::2] = np.column_stack([a, b, d])
+    F[1::2] = np.column_stack([a, d, c])
+    return F, V
+
+
+def sheet_for_triangles(n_triangles: int):
+    """A square grid sheet with about n_triangles triangles."""
+    side = max(2, int(round(np.sqrt(n_triangles / 2.0))) + 1)
+    return grid_sheet(side, side)
+
+
+def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> np.ndarray:
+    """Fold the sheet about the line x = x0 by `angle` radians (pi: flat onto itself).
+
+    The part x > x0 wraps around a cylinder of the given radius, then continues straight, so
+    the surface stays smooth; for angle > pi it passes through the other half.
+    """
+    W = V.copy()
+    s = V[:, 0] - x0
+    arc = radius * angle
+    on = s > 0
+    bend = on & (s <= arc)
+    straight = on & (s > arc)
+    t = s[bend] / radius
+    W[bend, 0] = x0 + radius * np.sin(t)
+    W[bend, 2] = V[bend, 2] + radius * (1.0 - np.cos(t))
+    u = s[straight] - arc
+    W[straight, 0] = x0 + radius * np.sin(angle) + u * np.cos(angle)
+    W[straight, 2] = V[straight, 2] + radius * (1.0 - np.cos(angle)) + u * np.sin(angle)
+    return W
+
+
+def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: float = 1.15 * np.pi):
+    """A sheet folding onto itself: from flat to `final_angle` (past pi it self-intersects)."""
+    F, V = sheet_for_triangles(n_triangles)
+    frames = np.stack([fold(V, final_angle * k / max(1, n_frames - 1)) for k in range(n_frames)])
+    return F, frames
+
+
+def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float = 0.15):
+    """A gently bending sheet (a travelling wave): never self-intersects."""
+    F, V = sheet_for_triangles(n_triangles)
+    frames = []
+    for k in range(n_frames):
+        phase = 2.0 * np.pi * k / max(1, n_frames)
+        W = V.copy()
+        W[:, 2] = amplitude * np.sin(2.0 * np.pi * V[:, 0] + phase) * np.cos(np.pi * (V[:, 1] - 0.5))
+        frames.append(W)
+    return F, np.stack(frames)
+
+
+def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
+    """A closed, consistently oriented (outward) UV sphere."""
+    th = np.linspace(0.0, np.pi, n_lat + 1)[1:-1]
+    ph = np.linspace(0.0, 2.0 * np.pi, n_lon, endpoint=False)
+    T, Ph = np.meshgrid(th, ph, indexing="ij")
+    ring = np.column_stack([np.sin(T).ravel() * np.cos(Ph).ravel(), np.sin(T).ravel() * np.sin(Ph).ravel(), np.cos(T).ravel()])
+    V = np.vstack([[0.0, 0.0, 1.0], ring, [0.0, 0.0, -1.0]]) * radius
+    south = len(V) - 1
+    F = []
+    for j in range(n_lon):
+        F.append([0, 1 + j, 1 + (j + 1) % n_lon])
+    for i in range(n_lat - 2):
+        for j in range(n_lon):
+            a = 1 + i * n_lon + j
+            b = 1 + i * n_lon + (j + 1) % n_lon
+            c = a + n_lon
+            d = b + n_lon
+            F.append([a, c, d])
+            F.append([a, d, b])
+    base = 1 + (n_lat - 2) * n_lon
+    for j in range(n_lon):
+        F.append([base + j, south, base + (j + 1) % n_lon])
+    return np.array(F, dtype=np.int64), V
+
+
+def crumpling_sphere(n_lat: int = 24, n_lon: int = 48, n_frames: int = 30, strength: float = 0.6, seed: int = 0):
+    """A sphere crumpling inwards under smooth random dents until it self-intersects."""
+    F, V = uv_sphere(n_lat, n_lon)
+    rng = np.random.default_rng(seed)
+    centers = rng.standard_normal((12, 3))
+    centers /= np.linalg.norm(centers, axis=1, keepdims=True)
+    weights = rng.uniform(0.5, 1.0, 12)
+    dirs = V / np.linalg.norm(V, axis=1, keepdims=True)
+    dent = np.zeros(len(V))
+    for c, w in zip(centers, weights):
+        dent += w * np.exp(-((1.0 - dirs @ c) / 0.08))
+    frames = []
+    for k in range(n_frames):
+        s = strength * k / max(1, n_frames - 1)
+        frames.append(V * (1.0 - s * dent)[:, None] * 1.0 + 0.0)
+    return F, np.stack(frames)

@@ -1,0 +1,183 @@
+"""Per-node contours and the unprojected contour test (Alg. 1).
+
+- Every eligible node's loop is exactly the boundary of its triangle set (half-edges whose
+  reverse is not in the node), as one simple cycle; ineligible nodes are ineligible for the
+  right reason.
+- Alg. 1 in C++ returns the same verdict, reason and edge as an exact twin evaluated on the
+  printed definitions (fractions).
+- Soundness: whenever it passes, the projection of the loop along l is a simple polygon
+  (checked by exact brute-force segment intersection).
+"""
+
+from fractions import Fraction as Fr
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+import conecull
+import exact_twin as ex
+from conecull._core import contour as CT
+from conecull.datasets.generated import grid_sheet
+from meshgen_basic import random_meshes
+
+STATUS = {0: "simple", 1: "nonmanifold", 2: "inconsistent", 3: "disconnected", 4: "closed", 5: "nonsimple", 6: "multiloop"}
+
+
+def boundary_halfedges(F, tris):
+    he = set()
+    for t in tris:
+        a, b, c = (int(x) for x in F[t])
+        he.update([(a, b), (b, c), (c, a)])
+    return {e for e in he if (e[1], e[0]) not in he}
+
+
+def check_contours(F, leaf_size=1, V=None):
+    mesh = conecull.Mesh(F)
+    col = conecull.SelfCollider(mesh, method="nc", leaf_size=leaf_size)
+    col.dcd(np.zeros((mesh.n_vertices, 3)) if V is None else V)
+    bvh, ct = col.bvh_arrays(), col.contour_arrays()
+    counts = {}
+    for i in range(len(bvh["begin"])):
+        tris = bvh["order"][bvh["begin"][i] : bvh["end"][i]]
+        st_ = STATUS[int(ct["status"][i])]
+        counts[st_] = counts.get(st_, 0) + 1
+        loop = ct["vertices"][ct["offsets"][i] : ct["offsets"][i + 1]]
+        if st_ == "simple":
+            assert len(set(loop.tolist())) == len(loop) >= 3
+            edges = {(int(loop[k]), int(loop[(k + 1) % len(loop)])) for k in range(len(loop))}
+            assert edges == boundary_halfedges(F, tris), f"node {i}: loop is not the node's boundary"
+        else:
+            assert len(loop) == 0
+    return counts
+
+
+def test_grid_nodes_are_disks():
+    F, _ = grid_sheet(9, 9)
+    counts = check_contours(F)
+    # A median-split grid: almost all nodes are disks.
+    assert counts.get("simple", 0) >= 0.9 * sum(counts.values())
+
+
+@pytest.mark.parametrize("leaf_size", [1, 3])
+@pytest.mark.parametrize("name,F,V", list(random_meshes()), ids=[m[0] for m in random_meshes()])
+def test_loops_are_node_boundaries(name, F, V, leaf_size):
+    counts = check_contours(F, leaf_size, V)
+    if name.startswith("sphere"):
+        assert counts.get("closed", 0) >= 1  # the root of a closed surface has no boundary
+
+
+def test_hole_gives_multiple_loops_and_fins_are_nonmanifold():
+    F, V = grid_sheet(8, 8)
+    keep = np.ones(len(F), bool)
+    keep[[48, 49, 50, 51]] = False  # two interior quads of row 3: a hole
+    counts = check_contours(F[keep], V=V)
+    assert counts.get("multiloop", 0) >= 1
+    # A fin: a third face on an interior edge makes every node holding its edge's faces ineligible.
+    a, b = (int(x) for x in F[30][:2])
+    fin = np.vstack([F, [[a, b, len(V)]]])
+    counts = check_contours(fin, V=np.vstack([V, [[0.5, 0.5, 1.0]]]))
+    assert counts.get("nonmanifold", 0) >= 1
+    # Inconsistent orientation: flip one face of the grid.
+    flipped = F.copy()
+    flipped[30] = flipped[30][::-1]
+    mesh = conecull.Mesh(flipped)
+    assert len(mesh.nonmanifold_edges) == 3  # its three interior edges are traversed the same way twice
+    counts = check_contours(flipped, V=V)
+    assert counts.get("nonmanifold", 0) >= 1
+
+
+def projected_simple(points, l):
+    """Exact check that the polygon projected along l is simple."""
+    l = ex.fr3(l)
+    r = ex.fr3(ex.ray_direction(tuple(float(x) for x in l)))
+    w = ex.cross(l, r)
+    P = [(ex.dot(ex.fr3(p), r), ex.dot(ex.fr3(p), w)) for p in points]
+    n = len(P)
+
+    def orient(a, b, c):
+        return ex.sgn((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+    def on_seg(a, b, c):
+        return min(a[0], b[0]) <= c[0] <= max(a[0], b[0]) and min(a[1], b[1]) <= c[1] <= max(a[1], b[1])
+
+    def meet(a, b, c, d):
+        d1, d2, d3, d4 = orient(c, d, a), orient(c, d, b), orient(a, b, c), orient(a, b, d)
+        if d1 * d2 < 0 and d3 * d4 < 0:
+            return True
+        return (d1 == 0 and on_seg(c, d, a)) or (d2 == 0 and on_seg(c, d, b)) or (d3 == 0 and on_seg(a, b, c)) or (d4 == 0 and on_seg(a, b, d))
+
+    if len(set(P)) != n:
+        return False
+    for i in range(n):
+        for j in range(i + 1, n):
+            a, b, c, d = P[i], P[(i + 1) % n], P[j], P[(j + 1) % n]
+            if j == i + 1 or (i == 0 and j == n - 1):
+                shared = b if j == i + 1 else a
+                other = d if j == i + 1 else c
+                # adjacent edges meet only at their shared vertex: not collinear-overlapping
+                if orient(a, b, other) == 0 and on_seg(a, b, other) or orient(c, d, a if j == i + 1 else b) == 0 and on_seg(c, d, a if j == i + 1 else b):
+                    return False
+                continue
+            if meet(a, b, c, d):
+                return False
+    return True
+
+
+coord = st.floats(min_value=-2.0, max_value=2.0, allow_nan=False).map(lambda x: 0.0 if abs(x) < 2.0**-60 else x)
+
+
+@st.composite
+def loops(draw):
+    """Loops around an axis: star-shaped, winding twice, zig-zag, or with exact degeneracies."""
+    n = draw(st.integers(3, 12))
+    kind = draw(st.sampled_from(["star", "star", "twice", "wild", "grid"]))
+    l = np.array([draw(coord), draw(coord), draw(coord)])
+    if np.linalg.norm(l) < 1e-3:
+        l = np.array([0.0, 1.0, 0.0]) if draw(st.booleans()) else np.array([0.3, 0.0, -0.2])
+    l = l / np.linalg.norm(l)
+    l[np.abs(l) < 2.0**-60] = 0.0
+    u = np.cross(l, [0.3, 0.7, 0.1])
+    u /= np.linalg.norm(u)
+    w = np.cross(l, u)
+    turns = 2 if kind == "twice" else 1
+    ang = np.sort(np.array([draw(st.floats(0, 2 * np.pi)) for _ in range(n)]))
+    if kind == "wild":
+        ang = np.array([draw(st.floats(0, 2 * np.pi)) for _ in range(n)])
+    rad = np.array([draw(st.floats(0.2, 1.0)) for _ in range(n)])
+    h = np.array([draw(st.floats(-1.0, 1.0)) for _ in range(n)])
+    pts = rad[:, None] * (np.cos(turns * ang)[:, None] * u + np.sin(turns * ang)[:, None] * w) + h[:, None] * l
+    if kind == "grid":  # integer points with an axis-aligned l: many exact zeros
+        pts = np.round(pts * 4)
+        l = np.array([[0.0, 0.0, 1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]][draw(st.integers(0, 2))])
+    return pts, l
+
+
+@settings(max_examples=500, deadline=None)
+@given(loops())
+def test_contour_test_matches_exact_twin_and_is_sound(loop):
+    pts, l = loop
+    res = CT.contour_test(np.arange(len(pts), dtype=np.int32), pts, l)
+    passed, reason, edge = ex.contour_test([tuple(p) for p in pts], tuple(l))
+    assert (res["passed"], res["reason"]) == (passed, reason)
+    if reason in (1, 2, 3, 4):
+        assert res["edge"] == edge
+    if res["passed"]:
+        assert projected_simple(pts, l), "Alg. 1 passed a loop whose projection is not simple"
+
+
+def test_star_and_twice_winding_examples():
+    l = np.array([0.0, 0.0, 1.0])
+    k = 8
+    ang = 2 * np.pi * np.arange(k) / k
+    star = np.c_[np.cos(ang + 0.2), np.sin(ang + 0.2), 0.1 * np.sin(3 * ang)]
+    assert CT.contour_test(np.arange(k, dtype=np.int32), star, l)["passed"]
+    twice = np.c_[np.cos(2 * ang + 0.1), np.sin(2 * ang + 0.1), np.linspace(0, 1, k)]
+    r = CT.contour_test(np.arange(k, dtype=np.int32), twice, l)
+    assert not r["passed"] and r["reason"] == 4  # winds twice: the ray crosses it twice
+    # Reversed orientation still passes (the kernel sign is consistent, just negative).
+    assert CT.contour_test(np.arange(k, dtype=np.int32)[::-1].copy(), star, l)["passed"]
+    # A vertex exactly on the line of the ray (even behind o) is "cannot determine" (Alg. 1 l. 24).
+    on_line = np.array([[2.0, 0, 0], [0, 2.0, 0], [-2.0, 0, 0], [0, -2.0, 0]])  # o = 0 exactly
+    r = CT.contour_test(np.arange(4, dtype=np.int32), on_line, l)
+    assert not r["passed"] and r["reason"] == 3

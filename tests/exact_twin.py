@@ -1,0 +1,107 @@
+"""Exact-arithmetic twins (fractions.Fraction) of the formulas the core evaluates in floating point.
+
+Every function takes float coordinates, converts them exactly, and returns exact values or signs.
+These are derived from the paper independently of the C++ code (see README, "Verified formulas").
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction as Fr
+
+
+def fr3(p):
+    return tuple(Fr(float(x)) for x in p)
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def sgn(x) -> int:
+    return (x > 0) - (x < 0)
+
+
+def orient3d(a, b, c, d) -> int:
+    a, b, c, d = map(fr3, (a, b, c, d))
+    return sgn(dot(cross(sub(b, a), sub(c, a)), sub(d, a)))
+
+
+def orient2d(a, b, c) -> int:
+    a, b, c = ([Fr(float(x)) for x in p] for p in (a, b, c))
+    return sgn((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]))
+
+
+def side(a, b, c, l):
+    """Sec. 3.3: Side(a, b, c, l) = ((a - c) x (b - c)) . l, exactly."""
+    a, b, c, l = map(fr3, (a, b, c, l))
+    return dot(cross(sub(a, c), sub(b, c)), l)
+
+
+def side_sign(a, b, c, l) -> int:
+    return sgn(side(a, b, c, l))
+
+
+def ray_side_sign_literal(v, o, r, l) -> int:
+    """SideSign(v, o, o + r, l) exactly as printed in Alg. 1 line 22, with o + r exact."""
+    v, o, r, l = map(fr3, (v, o, r, l))
+    opr = tuple(o[i] + r[i] for i in range(3))
+    return sgn(dot(cross(sub(v, opr), sub(o, opr)), l))
+
+
+def ray_direction(l):
+    """Alg. 1 lines 3-7."""
+    if l[0] == 0 and l[2] == 0:
+        return (1.0, 0.0, 0.0)
+    # l x (0, 1, 0)
+    return (-l[2], 0.0, l[0])
+
+
+def contour_test(loop_pts, l, o=None):
+    """Alg. 1 in exact arithmetic on the printed SideSign definitions.
+
+    Returns (passed, reason, edge) with the C++ reason codes. `o` defaults to the float mean of
+    the points computed like the core does (sum in order, times 1/n), so both test the same o.
+    """
+    n = len(loop_pts)
+    if o is None:
+        s = [0.0, 0.0, 0.0]
+        for p in loop_pts:
+            s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
+        inv = 1.0 / n
+        o = (inv * s[0], inv * s[1], inv * s[2])
+    r = ray_direction(l)
+    s0 = None
+    crossings = 0
+    for i in range(n):
+        vi, vn = loop_pts[i], loop_pts[(i + 1) % n]
+        s = side_sign(o, vi, vn, l)
+        if i == 0:
+            s0 = s
+        if s == 0:
+            return False, 1, i
+        if s != s0:
+            return False, 2, i
+        s1 = ray_side_sign_literal(vi, o, r, l)
+        s2 = ray_side_sign_literal(vn, o, r, l)
+        if s1 == 0 or s2 == 0:
+            return False, 3, i if s1 == 0 else (i + 1) % n
+        if s2 == s0 and s1 != s2:
+            crossings += 1
+            if crossings > 1:
+                return False, 4, i
+    if crossings != 1:
+        return False, 5, -1
+    return True, 0, -1
+
+
+def triangle_normal(a, b, c):
+    a, b, c = map(fr3, (a, b, c))
+    return cross(sub(b, a), sub(c, a))
