@@ -49,13 +49,13 @@ def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
         finite = np.isfinite(a)
         if not finite.all():
             r, c = np.argwhere(~finite)[0]
-            raise ValueError(f"{name}: non-finite coordinate {a[r, c]} at row {r}, column {c}")
+            raise ValueError(f"{name}: non-finite coordinate {float(a[r, c])} at row {r}, column {c}")
         mag = np.abs(a)
         bad = (mag > _COORD_MAX) | ((mag < _COORD_MIN) & (mag > 0))
         if bad.any():
             r, c = np.argwhere(bad)[0]
             raise ValueError(
-                f"{name}: coordinate {a[r, c]!r} at row {r}, column {c} is outside the supported range: "
+                f"{name}: coordinate {float(a[r, c])!r} at row {r}, column {c} is outside the supported range: "
                 "non-zero magnitudes must lie in [2^-128, 2^128] for the predicates to stay exact (rescale the mesh)"
             )
     return a

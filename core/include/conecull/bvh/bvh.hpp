@@ -42,7 +42,8 @@ struct Bvh {
     const BvhNode& operator[](int32_t i) const { return nodes[i]; }
 };
 
-// Object-median split along the longest axis of the centroids' box.
+// Bottom-up clustering along mesh adjacency (compact connected patches); components are joined
+// by a median split of their centroids.
 Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size);
 
 // Refit boxes from positions V (n, 3); O(nodes).

@@ -1,0 +1,119 @@
+"""Bad input raises ValueError naming the argument and the problem; never a crash."""
+
+import numpy as np
+import pytest
+
+import conecull
+from conecull.datasets.generated import grid_sheet
+
+F, V = grid_sheet(5, 5)
+
+
+def col(method="nc"):
+    return conecull.SelfCollider(conecull.Mesh(F), method=method)
+
+
+@pytest.mark.parametrize(
+    "faces,match",
+    [
+        (F.astype(np.float64), r"faces: expected an integer array"),
+        (F.astype(bool), r"faces: expected an integer array"),
+        (F[:, :2], r"faces: expected shape \(m, 3\)"),
+        (F.ravel(), r"faces: expected shape \(m, 3\)"),
+        (F[None], r"faces: expected shape \(m, 3\)"),
+        (np.vstack([F, [[0, 1, -1]]]), r"faces: negative vertex index -1 in row 32"),
+        (np.vstack([F, [[0, 1, 1]]]), r"faces: row 32 repeats a vertex"),
+        (np.array([[0, 1, 2**40]]), r"faces: vertex index .* does not fit"),
+        (np.array([["a", "b", "c"]]), r"faces: expected an integer array"),
+    ],
+)
+def test_bad_faces(faces, match):
+    with pytest.raises(ValueError, match=match):
+        conecull.Mesh(faces)
+
+
+def test_face_index_out_of_range_with_n_vertices():
+    with pytest.raises(ValueError, match=r"n_vertices: 10 is smaller than the largest face index \+ 1 \(25\)"):
+        conecull.Mesh(F, n_vertices=10)
+    with pytest.raises(ValueError, match=r"n_vertices: expected an integer"):
+        conecull.Mesh(F, n_vertices=25.0)
+
+
+@pytest.mark.parametrize(
+    "Vb,match",
+    [
+        (V.astype(np.int64), r"V: expected a float64 \(or float32\) array, got dtype int64"),
+        (V[:, :2], r"V: expected shape \(n, 3\)"),
+        (V.ravel(), r"V: expected shape \(n, 3\)"),
+        (V[:-1], r"V: has 24 rows but the mesh has 25 vertices"),
+        (np.vstack([V, V]), r"V: has 50 rows but the mesh has 25 vertices"),
+        (np.where(np.arange(75).reshape(25, 3) == 7, np.nan, V), r"V: non-finite coordinate nan at row 2, column 1"),
+        (np.where(np.arange(75).reshape(25, 3) == 4, np.inf, V), r"V: non-finite coordinate inf at row 1, column 1"),
+        (np.where(np.arange(75).reshape(25, 3) == 5, 1e300, V), r"V: coordinate 1e\+300 at row 1, column 2 is outside"),
+        (np.where(np.arange(75).reshape(25, 3) == 5, 1e-300, V), r"V: coordinate 1e-300 at row 1, column 2 is outside"),
+        ([[0, 0, 0]], r"V: expected a float64"),
+    ],
+)
+def test_bad_positions(Vb, match):
+    with pytest.raises(ValueError, match=match):
+        col().dcd(Vb)
+
+
+def test_bad_method_and_mesh():
+    with pytest.raises(ValueError, match=r"method: expected one of \('aabb', 'nc'\), got 'sct'"):
+        conecull.SelfCollider(conecull.Mesh(F), method="sct")
+    with pytest.raises(ValueError, match=r"mesh: expected a conecull.Mesh, got ndarray"):
+        conecull.SelfCollider(F)
+    with pytest.raises(ValueError, match=r"leaf_size: expected an integer in \[1, 64\]"):
+        conecull.SelfCollider(conecull.Mesh(F), leaf_size=0)
+
+
+def test_core_rejects_bad_shapes_too():
+    """The private module validates on its own: no crash when called directly."""
+    from conecull import _core
+
+    topo = _core.build_topology(F.astype(np.int32), 25)
+    c = _core.SelfCollider(topo, "nc", 1)
+    with pytest.raises(ValueError, match=r"V: expected shape \(25, 3\)"):
+        c.dcd(np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=r"faces: vertex index 99 in row 0 is out of range"):
+        _core.build_topology(np.array([[0, 1, 99]], dtype=np.int32), 25)
+    with pytest.raises(ValueError, match="method: unknown method"):
+        _core.SelfCollider(topo, "xyz", 1)
+
+
+def test_float32_accepted_and_same_result():
+    Vf = V.copy()
+    Vf[:, 2] = 0.3 * np.sin(4 * Vf[:, 0])
+    Vf = Vf.astype(np.float32)
+    r32 = col().dcd(Vf)
+    r64 = col().dcd(Vf.astype(np.float64))
+    assert np.array_equal(r32.pairs, r64.pairs)
+
+
+@pytest.mark.parametrize("method", conecull.METHODS)
+def test_empty_mesh(method):
+    for faces in (np.zeros((0, 3), dtype=np.int64), [], np.zeros((0, 3))):
+        c = conecull.SelfCollider(conecull.Mesh(faces), method=method)
+        res = c.dcd(np.zeros((0, 3)))
+        assert res.pairs.shape == (0, 2) and res.pairs.dtype == np.int64
+        assert res.stats["colliding_pairs"] == 0
+    # isolated vertices only
+    c = conecull.SelfCollider(conecull.Mesh(np.zeros((0, 3), dtype=int), n_vertices=4), method=method)
+    assert c.dcd(np.zeros((4, 3))).pairs.shape == (0, 2)
+
+
+def test_pairs_contract():
+    Vb = V.copy()
+    from conecull.datasets.generated import fold
+
+    Fb, Vb = grid_sheet(12, 12)
+    Vb = fold(Vb, 1.2 * np.pi, radius=0.02)
+    res = conecull.SelfCollider(conecull.Mesh(Fb)).dcd(Vb)
+    p = res.pairs
+    assert p.dtype == np.int64 and p.ndim == 2 and p.shape[1] == 2 and len(p) > 0
+    assert (p[:, 0] < p[:, 1]).all()
+    assert np.array_equal(p, np.unique(p, axis=0))  # sorted lexicographically, no duplicates
+    for key in ("bv_tests", "cone_tests", "contour_passed", "contour_failed", "elementary_tests", "colliding_pairs",
+                "seconds_refit", "seconds_traversal", "seconds_elementary"):
+        assert key in res.stats
