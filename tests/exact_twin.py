@@ -64,11 +64,12 @@ def ray_direction(l):
     return (-l[2], 0.0, l[0])
 
 
-def contour_test(loop_pts, l, o=None):
+def contour_test(loop_pts, l, o=None, r=None):
     """Alg. 1 in exact arithmetic on the printed SideSign definitions.
 
     Returns (passed, reason, edge) with the C++ reason codes. `o` defaults to the float mean of
-    the points computed like the core does (sum in order, times 1/n), so both test the same o.
+    the points computed like the core does (sum in order, times 1/n), so both test the same o;
+    `r` defaults to the paper's l x (0, 1, 0).
     """
     n = len(loop_pts)
     if o is None:
@@ -77,7 +78,8 @@ def contour_test(loop_pts, l, o=None):
             s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
         inv = 1.0 / n
         o = (inv * s[0], inv * s[1], inv * s[2])
-    r = ray_direction(l)
+    if r is None:
+        r = ray_direction(l)
     s0 = None
     crossings = 0
     for i in range(n):

@@ -223,8 +223,8 @@ def _folds():
     F, V = grid(10, 10)
     out.append(("fold_single_200_planar_nocross", F, fold_x(V, V, 0.625, 200)))
     # Z folds: fold past 180 and fold the tip back up through the base
-    for deg, back, n, seedshift in ((190, -90, 12, 0), (200, -100, 14, 1),
-                                    (240, -150, 12, 2), (270, -135, 16, 3)):
+    for deg, back, n in ((190, -90, 12), (200, -100, 14),
+                         (240, -150, 12), (270, -135, 16)):
         F, V = grid(n, 6, hy=0.25)
         x1 = 0.125 * (n * 5 // 8)
         x2 = x1 + 0.125 * 2
@@ -236,7 +236,9 @@ def _folds():
         F, V = grid(n, n)
         W = fold_x(V, V, 0.125 * (n // 2), deg, ramp=(0.2, 1.0))
         out.append((f"fold_twisted_ramp_{deg:03d}_g{n}", F, W))
-    # double fold: about x then about y, both past 180 via the twist ramp
+    # double fold: 160 deg about x = 0.75, then the half y > 0.75 (base and
+    # flap together) is turned 200 deg about the line y = 0.75, z = 0; the
+    # flap faces at the second crease get stretched, the layers cross
     F, V = grid(12, 12)
     W = fold_x(V, V, 0.75, 160)
     W = fold_y(W, V, 0.75, 200)

@@ -221,7 +221,7 @@ def _point_in(x, cons) -> bool:
 def _candidates(A, consB):
     """Candidate extreme points contributed by triangle A against hull B."""
     for v in A:
-        if False:
+        if _point_in(v, consB):
             yield v
     for k in range(3):
         p, q = A[k], A[(k + 1) % 3]

@@ -1,4 +1,8 @@
 // Contour bindings (core/include/conecull/contour/): per-node loops and Alg. 1 on one loop.
+#include <optional>
+
+#include <pybind11/stl.h>
+
 #include "conecull/contour/contour_test.hpp"
 #include "stages.hpp"
 
@@ -16,15 +20,22 @@ py::dict contour_arrays(const Contours& c) {
 void bind_contour(py::module_& m) {
     m.def(
         "contour_test",
-        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+        [](const I32Array& loop, const F64Array& V, const F64Array& l, std::optional<F64Array> r) {
             require_shape(V, "V", -1, 3);
             if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
             if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
             for (py::ssize_t i = 0; i < loop.shape(0); ++i)
                 if (loop.data()[i] < 0 || loop.data()[i] >= V.shape(0)) throw py::value_error("loop: index out of range");
             const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
-            const ContourVerdict v =
-                unprojected_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis);
+            const int32_t n = static_cast<int32_t>(loop.shape(0));
+            ContourVerdict v;
+            if (r) {
+                if (r->ndim() != 1 || r->shape(0) != 3) throw py::value_error("r: expected shape (3,)");
+                const Vec3 ray{r->data()[0], r->data()[1], r->data()[2]};
+                v = unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, ray);
+            } else {
+                v = unprojected_contour_test(loop.data(), n, V.data(), axis);
+            }
             py::dict d;
             d["passed"] = v.passed();
             d["reason"] = static_cast<int>(v.reason);
@@ -34,8 +45,9 @@ void bind_contour(py::module_& m) {
             d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
             return d;
         },
-        py::arg("loop"), py::arg("V"), py::arg("l"),
-        "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,).");
+        py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(),
+        "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,); ray r (3,) if given,\n"
+        "else the core's choice (generic directions, a second one if the first hits a vertex).");
 }
 
 }  // namespace conecull::bind

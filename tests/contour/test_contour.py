@@ -157,8 +157,14 @@ def loops(draw):
 @given(loops())
 def test_contour_test_matches_exact_twin_and_is_sound(loop):
     pts, l = loop
-    res = CT.contour_test(np.arange(len(pts), dtype=np.int32), pts, l)
-    passed, reason, edge = ex.contour_test([tuple(p) for p in pts], tuple(l))
+    ids = np.arange(len(pts), dtype=np.int32)
+    res = CT.contour_test(ids, pts, l)
+    # The twin runs the printed Alg. 1 with the ray the core ended up using ...
+    passed, reason, edge = ex.contour_test([tuple(p) for p in pts], tuple(l), r=res["ray"])
+    # ... and the core given the paper's ray agrees with the twin on the paper's ray.
+    paper_r = np.array(ex.ray_direction(tuple(l)))
+    res_paper = CT.contour_test(ids, pts, l, paper_r)
+    assert (res_paper["passed"], res_paper["reason"]) == ex.contour_test([tuple(p) for p in pts], tuple(l))[:2]
     assert (res["passed"], res["reason"]) == (passed, reason)
     if reason in (1, 2, 3, 4):
         assert res["edge"] == edge
@@ -177,7 +183,9 @@ def test_star_and_twice_winding_examples():
     assert not r["passed"] and r["reason"] == 4  # winds twice: the ray crosses it twice
     # Reversed orientation still passes (the kernel sign is consistent, just negative).
     assert CT.contour_test(np.arange(k, dtype=np.int32)[::-1].copy(), star, l)["passed"]
-    # A vertex exactly on the line of the ray (even behind o) is "cannot determine" (Alg. 1 l. 24).
+    # A vertex exactly on the line of the paper's ray (even behind o) is "cannot determine"
+    # (Alg. 1 l. 24); the core's generic ray directions avoid the grid line and pass.
     on_line = np.array([[2.0, 0, 0], [0, 2.0, 0], [-2.0, 0, 0], [0, -2.0, 0]])  # o = 0 exactly
-    r = CT.contour_test(np.arange(4, dtype=np.int32), on_line, l)
+    r = CT.contour_test(np.arange(4, dtype=np.int32), on_line, l, np.array(ex.ray_direction(tuple(l))))
     assert not r["passed"] and r["reason"] == 3
+    assert CT.contour_test(np.arange(4, dtype=np.int32), on_line, l)["passed"]

@@ -27,20 +27,36 @@ struct ContourVerdict {
     bool passed() const { return reason == ContourReason::kPassed; }
 };
 
-// Alg. 1 lines 3-7: any direction perpendicular to l serves; l x (0, 1, 0) = (-l_z, 0, l_x) is
-// computed without rounding.
-inline Vec3 ray_direction(const Vec3& l) {
-    if (l.x == 0.0 && l.z == 0.0) return {1.0, 0.0, 0.0};
-    return {-l.z, 0.0, l.x};
+// Alg. 1 lines 3-7 pick r = l x (0, 1, 0). Any r works whose projection on the plane
+// perpendicular to l is non-zero: SideSign(v, o, o + r, l) = det[r, v - o, l] only sees that
+// projection, and it is evaluated exactly for the r actually used, so r need not be exactly
+// perpendicular to l. The paper's choice is the worst one on grid-like meshes (cloth starts flat
+// and axis-aligned): the ray then runs along a grid row and hits vertices exactly, and the test
+// must give up. We use fixed generic directions instead, and a second one if the first hits a
+// vertex exactly.
+inline constexpr int kRayDirections = 2;
+inline Vec3 ray_direction(const Vec3& l, int attempt) {
+    static constexpr Vec3 g[kRayDirections + 1] = {{0.5257311121191336, 0.2628655560595668, -0.8090169943749475},
+                                                   {-0.3090169943749474, 0.8506508083520400, 0.4253254041760200},
+                                                   {0.7071067811865476, -0.5, 0.5}};
+    // Skip a direction nearly parallel to l (its projection would be tiny). The three are far
+    // enough apart that at most one is skipped.
+    for (const Vec3& d : g) {
+        if (norm(cross(d, l)) < 0.25) continue;
+        if (attempt-- == 0) return d;
+    }
+    return g[kRayDirections];
 }
 
 // Alg. 1. `loop` holds n vertex ids in boundary order; l is the cone axis.
 // Every sign is exact (filtered, then expansion arithmetic), so "passed" is a proof that the
-// projection of the loop along l is a simple star-shaped polygon around o. Two departures
-// from the printed algorithm, both on the safe side: the ray test at a vertex is computed
-// once per vertex (s2 of edge i is s1 of edge i+1), and the final answer requires exactly one
-// crossing (the printed `return true` would also accept zero, which exact signs never produce).
-inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
+// projection of the loop along l is a simple star-shaped polygon around o. Departures from the
+// printed algorithm, all on the safe side: the ray direction (see ray_direction); the ray test
+// at a vertex is computed once per vertex (s2 of edge i is s1 of edge i+1); and the final
+// answer requires exactly one crossing (the printed `return true` would also accept zero,
+// which exact signs never produce).
+inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
+                                                     const Vec3& r) {
     ContourVerdict out;
     // Alg. 1 line 2: kernel point o = mean of the contour vertices. Any o is valid for the
     // test; rounding only moves it.
@@ -48,9 +64,8 @@ inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, c
     for (int32_t i = 0; i < n; ++i) sum = sum + load(V, loop[i]);
     const double inv = 1.0 / n;
     out.kernel = inv * sum;
-    out.ray = ray_direction(l);
+    out.ray = r;
     const Vec3& o = out.kernel;
-    const Vec3& r = out.ray;
     int s0 = 0;
     Vec3 vi = load(V, loop[0]);
     int s1 = ray_side_sign(vi, o, r, l);  // Alg. 1 line 22
@@ -89,6 +104,13 @@ inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, c
     }
     if (out.crossings != 1) out.reason = ContourReason::kNoCrossing;
     return out;
+}
+
+inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
+    ContourVerdict v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, 0));
+    for (int attempt = 1; attempt < kRayDirections && v.reason == ContourReason::kRayThroughVertex; ++attempt)
+        v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, attempt));
+    return v;
 }
 
 }  // namespace conecull

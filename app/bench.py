@@ -1,0 +1,93 @@
+"""Benchmarks (not tests): print markdown tables and write JSON. Single-threaded; medians of
+several timed runs per frame, then the median over frames."""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import statistics
+import time
+
+import numpy as np
+
+import conecull
+from conecull.datasets.generated import fold, sheet_for_triangles
+
+STAGES = ("seconds_refit", "seconds_traversal", "seconds_elementary")
+
+
+def _folded_sheet_frames(n_triangles: int, n_frames: int):
+    """The DCD benchmark scene: a sheet folding from 0.9 pi to 1.2 pi (flat onto itself and
+    through), so every frame has both large culled regions and real self-intersections."""
+    F, V = sheet_for_triangles(n_triangles)
+    angles = np.linspace(0.9 * np.pi, 1.2 * np.pi, n_frames)
+    # A small smooth ripple keeps the flat parts from being exactly coplanar (real cloth).
+    V = V.copy()
+    V[:, 2] = 0.002 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
+    return F, [fold(V, a, radius=0.03) for a in angles]
+
+
+def _time_method(mesh, frames, method, leaf_size, repeats):
+    col = conecull.SelfCollider(mesh, method=method, leaf_size=leaf_size)
+    t0 = time.perf_counter()
+    col.dcd(frames[0])  # builds the BVH and contours
+    build_s = time.perf_counter() - t0
+    per_frame = []
+    for V in frames:
+        runs = []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            res = col.dcd(V)
+            wall = time.perf_counter() - t
+            runs.append((wall, res))
+        per_frame.append({
+            "wall_ms": statistics.median(1e3 * w for w, _ in runs),
+            **{s: statistics.median(1e3 * r.stats[s] for _, r in runs) for s in STAGES},
+            "stats": {k: v for k, v in runs[0][1].stats.items() if not k.startswith("seconds")},
+            "pairs": len(runs[0][1].pairs),
+        })
+    return build_s, per_frame
+
+
+def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results") -> int:
+    F, frames = _folded_sheet_frames(n_triangles, n_frames)
+    mesh = conecull.Mesh(F)
+    print(f"# DCD benchmark: folded sheet, {mesh.n_faces} triangles, {n_frames} frames, "
+          f"{repeats} runs per frame (medians), one thread, {platform.processor() or platform.machine()}")
+    print()
+    print("| method | leaf | build s | query ms | refit ms | traversal ms | elementary ms | cone tests | contour tests | "
+          "culled | elementary tests | colliding pairs |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    results = []
+    pairs_ref = None
+    for method in conecull.METHODS:
+        for leaf in (1, 2, 4):
+            build_s, pf = _time_method(mesh, frames, method, leaf, repeats)
+            med = lambda key: statistics.median(f[key] for f in pf)  # noqa: E731
+            medstat = lambda key: statistics.median(f["stats"][key] for f in pf)  # noqa: E731
+            pairs = [f["pairs"] for f in pf]
+            if pairs_ref is None:
+                pairs_ref = pairs
+            assert pairs == pairs_ref, "methods disagree on the number of colliding pairs"
+            row = {
+                "method": method, "leaf_size": leaf, "build_s": build_s, "query_ms": med("wall_ms"),
+                "refit_ms": med("seconds_refit"), "traversal_ms": med("seconds_traversal"),
+                "elementary_ms": med("seconds_elementary"), "cone_tests": medstat("cone_tests"),
+                "contour_tests": medstat("contour_tests"), "contour_passed": medstat("contour_passed"),
+                "elementary_tests": medstat("elementary_tests"), "colliding_pairs": statistics.median(pairs),
+                "per_frame": pf,
+            }
+            results.append(row)
+            print(f"| {method} | {leaf} | {build_s:.2f} | {row['query_ms']:.2f} | {row['refit_ms']:.2f} | "
+                  f"{row['traversal_ms']:.2f} | {row['elementary_ms']:.2f} | {row['cone_tests']:.0f} | "
+                  f"{row['contour_tests']:.0f} | {row['contour_passed']:.0f} | {row['elementary_tests']:.0f} | "
+                  f"{row['colliding_pairs']:.0f} |")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "dcd.json")
+    with open(path, "w") as fh:
+        json.dump({"scene": "folded sheet", "triangles": mesh.n_faces, "frames": n_frames, "repeats": repeats,
+                   "results": results}, fh, indent=1)
+    print()
+    print(f"(medians over frames of the per-frame median of {repeats} runs; JSON: {path})")
+    return 0

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# One entry point for a fresh machine that has python3, g++ and cmake:
+#   ./dev.sh demo     set up, then run the demo (a DCD run on a generated scene)
+#   ./dev.sh test     set up, then run the test suite
+#   ./dev.sh bench    set up, then run the DCD benchmark (tables + JSON in bench-results/)
+# Set-up creates .venv/ and installs conecull into it (editable, so rebuilds are incremental).
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")"
+PY=${PYTHON:-python3}
+VENV=.venv
+
+make_venv() {
+    [ -x "$VENV/bin/python" ] && "$VENV/bin/python" -m pip --version >/dev/null 2>&1 && return
+    rm -rf "$VENV"
+    if ! "$PY" -m venv "$VENV" 2>/dev/null; then
+        # Debian without python3-venv: a venv without pip, then pip's own wheel from PyPI.
+        echo "python3 -m venv has no ensurepip here; bootstrapping pip from PyPI" >&2
+        rm -rf "$VENV"
+        "$PY" -m venv --without-pip "$VENV"
+        "$VENV/bin/python" - <<'PYEOF'
+import json, sys, urllib.request, tempfile, os, subprocess
+meta = json.load(urllib.request.urlopen("https://pypi.org/pypi/pip/json"))
+url = next(u["url"] for u in meta["urls"] if u["filename"].endswith(".whl"))
+whl = os.path.join(tempfile.mkdtemp(), url.rsplit("/", 1)[1])
+urllib.request.urlretrieve(url, whl)
+subprocess.check_call([sys.executable, os.path.join(whl, "pip"), "install", "-q", whl])
+PYEOF
+    fi
+}
+
+setup() {
+    make_venv
+    local pip="$VENV/bin/python -m pip"
+    $pip install -q --upgrade pip
+    $pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" ninja
+    if ! cmake --version >/dev/null 2>&1; then $pip install -q "cmake>=3.18"; fi
+    # --no-build-isolation reuses build/ between runs (incremental C++ rebuilds).
+    $pip install -q --no-build-isolation -e ".[test]"
+}
+
+cmd=${1:-demo}
+shift || true
+case "$cmd" in
+    setup) setup ;;
+    demo) setup; exec "$VENV/bin/python" -m conecull demo "$@" ;;
+    test)
+        setup
+        set +e
+        "$VENV/bin/python" -m pytest -q "$@"
+        rc=$?
+        # pytest's 5 means "no tests collected": a failure here, never a silent pass.
+        [ $rc -eq 5 ] && echo "no tests were collected" >&2 && exit 1
+        exit $rc ;;
+    bench) setup; exec "$VENV/bin/python" -m conecull bench "$@" ;;
+    *) echo "usage: ./dev.sh {demo|test|bench|setup} [args]" >&2; exit 2 ;;
+esac
