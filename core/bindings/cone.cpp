@@ -5,14 +5,16 @@ namespace conecull::bind {
 
 py::dict cone_arrays(const std::vector<NormalCone>& cones) {
     const py::ssize_t n = static_cast<py::ssize_t>(cones.size());
-    py::array_t<double> axis({n, py::ssize_t(3)}), cos_bound(n);
+    py::array_t<double> axis({n, py::ssize_t(3)}), cos_bound(n), sin_bound(n);
     for (py::ssize_t i = 0; i < n; ++i) {
         for (int k = 0; k < 3; ++k) axis.mutable_data()[3 * i + k] = cones[i].axis[k];
         cos_bound.mutable_data()[i] = cones[i].cos_bound;
+        sin_bound.mutable_data()[i] = cones[i].sin_bound;
     }
     py::dict d;
     d["axis"] = axis;
     d["cos_bound"] = cos_bound;
+    d["sin_bound"] = sin_bound;
     return d;
 }
 
@@ -20,7 +22,7 @@ namespace {
 
 py::tuple split(const std::vector<NormalCone>& cones) {
     const py::dict d = cone_arrays(cones);
-    return py::make_tuple(d["axis"], d["cos_bound"]);
+    return py::make_tuple(d["axis"], d["cos_bound"], d["sin_bound"]);
 }
 
 }  // namespace
@@ -37,23 +39,27 @@ void bind_cone(py::module_& m) {
             return split(out);
         },
         py::arg("a"), py::arg("b"), py::arg("c"),
-        "Cones of triangles (a, b, c), each (k, 3): returns (axis (k, 3), cos_bound (k,)).");
+        "Cones of triangles (a, b, c), each (k, 3): returns (axis (k, 3), cos_bound (k,), sin_bound (k,)).");
     m.def(
         "merge_cones",
-        [](const F64Array& axis_p, const F64Array& cos_p, const F64Array& axis_q, const F64Array& cos_q) {
+        [](const F64Array& axis_p, const F64Array& cos_p, const F64Array& sin_p, const F64Array& axis_q,
+           const F64Array& cos_q, const F64Array& sin_q) {
             require_shape(axis_p, "axis_p", -1, 3);
             require_shape(axis_q, "axis_q", axis_p.shape(0), 3);
             const py::ssize_t k = axis_p.shape(0);
-            if (cos_p.ndim() != 1 || cos_p.shape(0) != k || cos_q.ndim() != 1 || cos_q.shape(0) != k)
-                throw py::value_error("cos_p, cos_q: expected shape (" + std::to_string(k) + ",)");
+            for (const F64Array* a : {&cos_p, &sin_p, &cos_q, &sin_q})
+                if (a->ndim() != 1 || a->shape(0) != k)
+                    throw py::value_error("cos_p, sin_p, cos_q, sin_q: expected shape (" + std::to_string(k) + ",)");
             std::vector<NormalCone> out(k);
             for (py::ssize_t i = 0; i < k; ++i) {
-                NormalCone p{row(axis_p, i), cos_p.data()[i]}, q{row(axis_q, i), cos_q.data()[i]};
+                NormalCone p{row(axis_p, i), cos_p.data()[i], sin_p.data()[i]};
+                NormalCone q{row(axis_q, i), cos_q.data()[i], sin_q.data()[i]};
                 out[i] = merge(p, q);
             }
             return split(out);
         },
-        py::arg("axis_p"), py::arg("cos_p"), py::arg("axis_q"), py::arg("cos_q"));
+        py::arg("axis_p"), py::arg("cos_p"), py::arg("sin_p"), py::arg("axis_q"), py::arg("cos_q"), py::arg("sin_q"),
+        "Merge cones row by row: returns (axis, cos_bound, sin_bound).");
 }
 
 }  // namespace conecull::bind

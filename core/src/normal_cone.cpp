@@ -24,10 +24,6 @@ Vec3 normalized_flushed(const Vec3& v, double len) {
     return u;
 }
 
-// sin(theta) from cos(theta) = m in (0, 1]; (1 - m)(1 + m) keeps the relative error small
-// near m = 1 where 1 - m*m would cancel.
-double sin_from_cos(double m) { return std::sqrt(std::max(0.0, (1.0 - m) * (1.0 + m))); }
-
 }  // namespace
 
 NormalCone triangle_cone(const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -38,17 +34,19 @@ NormalCone triangle_cone(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 n{m1 - m2, m3 - m4, m5 - m6};
     // |fl(n_i) - n_i| <= (4 eps + O(eps^2)) (|m| + |m'|): two rounded differences, one rounded
     // product and one rounded subtraction per term. 9 eps leaves a factor > 2 for the
-    // roundings of this bound and of r below.
-    const double ex = 9.0 * kEps * (std::fabs(m1) + std::fabs(m2));
-    const double ey = 9.0 * kEps * (std::fabs(m3) + std::fabs(m4));
-    const double ez = 9.0 * kEps * (std::fabs(m5) + std::fabs(m6));
-    const double err = std::sqrt(ex * ex + ey * ey + ez * ez);
+    // roundings of this bound and of r below; the L1 norm bounds the L2 norm of the error.
+    const double err = 9.0 * kEps * (std::fabs(m1) + std::fabs(m2) + std::fabs(m3) + std::fabs(m4) +
+                                     std::fabs(m5) + std::fabs(m6));
     const double len = norm(n);
-    const double r = err / len;  // sin of the largest angle between fl(n) and the exact n
+    // sin of the largest angle between fl(n) and the exact n: angle <= asin(r).
+    const double r = err / len;
     if (!(len > 0.0) || !(r < 0.5) || !std::isfinite(len)) return NormalCone::full();
     NormalCone cone;
     cone.axis = normalized_flushed(n, len);
-    cone.cos_bound = sin_from_cos(r) - kConeSlack;  // cos(asin r) = sqrt(1 - r^2)
+    // theta = asin(r) + (normalisation and flush, < 1e-15): cos(theta) >= 1 - r - slack since
+    // sqrt(1 - r^2) >= 1 - r, and sin(theta) <= r + slack.
+    cone.cos_bound = 1.0 - r - kConeSlack;
+    cone.sin_bound = r + kConeSlack;
     return cone;
 }
 
@@ -60,18 +58,19 @@ NormalCone merge(const NormalCone& p, const NormalCone& q) {
     if (!(len > 0.1)) return NormalCone::full();
     NormalCone out;
     out.axis = normalized_flushed(s, len);
-    double bound = 1.0;
-    for (const NormalCone* child : {&p, &q}) {
-        // angle(n, axis) <= theta_child + phi with cos(theta_child) = cos_bound, phi the angle
-        // between the axes; cos(theta + phi) = cos theta cos phi - sin theta sin phi.
-        const double cos_phi = dot(out.axis, child->axis);
-        const double sin_phi = norm(cross(out.axis, child->axis));
-        const double m = child->cos_bound;
-        bound = std::min(bound, m * cos_phi - sin_from_cos(m) * sin_phi);
-    }
-    // theta + phi < 3 pi / 2 here, so cos(theta + phi) <= 0 exactly when theta + phi >= pi / 2:
-    // a non-positive bound is a full cone and never a false "bounded".
-    out.cos_bound = bound - kConeSlack;
+    // The new axis bisects the children's (unit) axes, at angle phi from each:
+    // |p + q| = 2 cos(phi), |p - q| = 2 sin(phi).
+    const double cos_phi = 0.5 * len;
+    const double sin_phi = 0.5 * norm(p.axis - q.axis);
+    // angle(n, axis) <= theta_child + phi =: psi; while psi < pi/2,
+    // cos(psi) = cos(theta) cos(phi) - sin(theta) sin(phi) >= cos_bound cos(phi) - sin_bound sin(phi),
+    // sin(psi) = sin(theta) cos(phi) + cos(theta) sin(phi) <= sin_bound cos(phi) + sin(phi).
+    const double c = std::min(p.cos_bound * cos_phi - p.sin_bound * sin_phi, q.cos_bound * cos_phi - q.sin_bound * sin_phi);
+    const double sn = std::max(p.sin_bound, q.sin_bound) * cos_phi + sin_phi;
+    // psi <= pi, so a positive lower bound on cos(psi) proves psi < pi/2: a non-positive bound is
+    // a full cone and never a false "bounded".
+    out.cos_bound = c - kConeSlack;
+    out.sin_bound = sn + kConeSlack;
     if (!(out.cos_bound > 0.0)) return NormalCone::full();
     return out;
 }

@@ -83,15 +83,21 @@ def test_merge_contains_both_cones():
     n1 = rng.standard_normal((k, 3))
     n2 = n1 + 0.3 * rng.standard_normal((k, 3))
     z = np.zeros((k, 3))
-    ax1, cb1 = C.triangle_cone(z, np.tile([1.0, 0, 0], (k, 1)), np.cross(n1, [1.0, 0, 0]) * -1)
-    # Triangle (0, e_x, w) has normal e_x x w; pick w so the normal is along n1 where possible.
-    ax2, cb2 = C.triangle_cone(z, np.tile([0, 1.0, 0], (k, 1)), np.cross(n2, [0, 1.0, 0]) * -1)
-    ax, cb = C.merge_cones(ax1, cb1, ax2, cb2)
+    ax1, cb1, sb1 = C.triangle_cone(z, np.tile([1.0, 0, 0], (k, 1)), np.cross(n1, [1.0, 0, 0]) * -1)
+    ax2, cb2, sb2 = C.triangle_cone(z, np.tile([0, 1.0, 0], (k, 1)), np.cross(n2, [0, 1.0, 0]) * -1)
+    # widen the children to test merging of wide cones too
+    w = np.linspace(0, 0.5, k)
+    cb1, sb1 = np.cos(np.arccos(cb1) + w) - 1e-9, np.sin(np.arccos(cb1) + w) + 1e-9
+    ax, cb, sb = C.merge_cones(ax1, cb1, sb1, ax2, cb2, sb2)
+    def theta(c, s_):  # the half-angle the (cos, sin) bounds certify
+        return min(np.arccos(min(1.0, c)), np.arcsin(min(1.0, s_)))
+
+    merged = 0
     for i in range(k):
         if cb[i] <= 0:
             continue
-        for axc, cbc in ((ax1[i], cb1[i]), (ax2[i], cb2[i])):
-            # the child's axis direction is inside the merged cone, with room for its width
-            cos_phi = float(np.dot(ax[i], axc))
-            phi = np.arccos(min(1.0, cos_phi))
-            assert phi + np.arccos(min(1.0, cbc)) <= np.arccos(min(1.0, cb[i])) + 1e-9
+        merged += 1
+        for axc, cbc, sbc in ((ax1[i], cb1[i], sb1[i]), (ax2[i], cb2[i], sb2[i])):
+            phi = np.arccos(min(1.0, float(np.dot(ax[i], axc))))
+            assert phi + theta(cbc, sbc) <= theta(cb[i], sb[i]) + 1e-9
+    assert merged > k // 4
