@@ -18,9 +18,12 @@ make_venv() {
         rm -rf "$VENV"
         "$PY" -m venv --without-pip "$VENV"
         "$VENV/bin/python" - <<'PYEOF'
-import json, sys, urllib.request, tempfile, os, subprocess
-meta = json.load(urllib.request.urlopen("https://pypi.org/pypi/pip/json"))
-url = next(u["url"] for u in meta["urls"] if u["filename"].endswith(".whl"))
+import json, sys, urllib.parse, urllib.request, tempfile, os, subprocess
+index = os.environ.get("PIP_INDEX_URL", "https://pypi.org/simple").rstrip("/")
+api = index[: -len("/simple")] if index.endswith("/simple") else index
+meta_url = api + "/pypi/pip/json"
+meta = json.load(urllib.request.urlopen(meta_url))
+url = urllib.parse.urljoin(meta_url, next(u["url"] for u in meta["urls"] if u["filename"].endswith(".whl")))
 whl = os.path.join(tempfile.mkdtemp(), url.rsplit("/", 1)[1])
 urllib.request.urlretrieve(url, whl)
 subprocess.check_call([sys.executable, os.path.join(whl, "pip"), "install", "-q", whl])
