@@ -52,6 +52,25 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     return d;
 }
 
+py::dict trace_dict(const RecordingTracer& t) {
+    py::dict d;
+    d["cone_node"] = to_numpy(t.cone_node);
+    d["cone_axis"] = to_numpy(t.cone_axis, 3);
+    d["cone_apex_angle"] = to_numpy(t.cone_apex_angle);
+    d["cone_bounded"] = to_numpy(t.cone_bounded).attr("astype")("bool");
+    d["contour_node"] = to_numpy(t.contour_node);
+    d["contour_reason"] = to_numpy(t.contour_reason);
+    d["contour_edge"] = to_numpy(t.contour_edge);
+    d["contour_crossings"] = to_numpy(t.contour_crossings);
+    d["contour_kernel"] = to_numpy(t.contour_kernel, 3);
+    d["contour_ray"] = to_numpy(t.contour_ray, 3);
+    d["level_pairs"] = to_numpy(t.level_pairs);
+    d["level_overlaps"] = to_numpy(t.level_overlaps);
+    d["elementary_pair"] = to_numpy(t.elementary_pair, 2);
+    d["elementary_result"] = to_numpy(t.elementary_result).attr("astype")("bool");
+    return d;
+}
+
 }  // namespace
 
 void bind_collider(py::module_& m) {
@@ -64,13 +83,14 @@ void bind_collider(py::module_& m) {
              py::arg("topology"), py::arg("method"), py::arg("leaf_size"))
         .def(
             "dcd",
-            [](PyCollider& self, const F64Array& V) {
+            [](PyCollider& self, const F64Array& V, bool trace) {
                 require_shape(V, "V", self.collider.topology().n_vertices, 3);
                 DcdResult res;
+                RecordingTracer tracer;
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.dcd(V.data());
+                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr);
                 }
                 py::array_t<int64_t> pairs({static_cast<py::ssize_t>(res.pairs.size()), py::ssize_t(2)});
                 int64_t* p = pairs.mutable_data();
@@ -78,9 +98,11 @@ void bind_collider(py::module_& m) {
                     p[2 * i] = res.pairs[i].first;
                     p[2 * i + 1] = res.pairs[i].second;
                 }
-                return py::make_tuple(pairs, stats_dict(res.stats, self.collider.method()));
+                py::object tr = trace ? py::object(trace_dict(tracer)) : py::object(py::none());
+                return py::make_tuple(pairs, stats_dict(res.stats, self.collider.method()), tr);
             },
-            py::arg("V"), "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict).")
+            py::arg("V"), py::arg("trace") = false,
+            "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })

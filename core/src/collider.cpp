@@ -33,22 +33,15 @@ void SelfCollider::build(const double* V) {
     built_ = true;
 }
 
-DcdResult SelfCollider::dcd(const double* V) {
-    DcdResult res;
+template <class Tracer>
+void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult& res) {
     DcdStats& st = res.stats;
     auto t0 = Clock::now();
-    if (!built_) build(V);
-    else refit_boxes(bvh_, *topo_, V);
-    if (method_ == Method::kNc) refit_cones(bvh_, *topo_, V, cones_);
-    st.seconds_refit = seconds_since(t0);
-
-    t0 = Clock::now();
     candidates_.clear();
-    NullTracer tracer;
     if (method_ == Method::kNc) {
-        SelfCollideTraversal<true, NullTracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
+        SelfCollideTraversal<true, Tracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
     } else {
-        SelfCollideTraversal<false, NullTracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
+        SelfCollideTraversal<false, Tracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
     }
     st.seconds_traversal = seconds_since(t0);
 
@@ -59,12 +52,31 @@ DcdResult SelfCollider::dcd(const double* V) {
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
         const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
         const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
-        if (triangles_collide(fp, P, fq, Q)) res.pairs.push_back(c);
+        const bool hit = triangles_collide(fp, P, fq, Q);
+        if constexpr (Tracer::enabled) tracer.on_elementary(c.first, c.second, hit);
+        if (hit) res.pairs.push_back(c);
     }
     st.elementary_tests = static_cast<int64_t>(candidates_.size());
     std::sort(res.pairs.begin(), res.pairs.end());
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
+}
+
+DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
+    DcdResult res;
+    auto t0 = Clock::now();
+    if (!built_) build(V);
+    else refit_boxes(bvh_, *topo_, V);
+    if (method_ == Method::kNc) refit_cones(bvh_, *topo_, V, cones_);
+    res.stats.seconds_refit = seconds_since(t0);
+    // The tracer variant is chosen once per query; the traversal itself has no branches on it.
+    if (tracer) {
+        tracer->reserve(bvh_);
+        traverse_and_test(V, *tracer, res);
+    } else {
+        NullTracer null;
+        traverse_and_test(V, null, res);
+    }
     return res;
 }
 

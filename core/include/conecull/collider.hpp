@@ -11,6 +11,7 @@
 #include "conecull/bvh/bvh.hpp"
 #include "conecull/contour/contour.hpp"
 #include "conecull/mesh/topology.hpp"
+#include "conecull/trace/recording_tracer.hpp"
 #include "conecull/traversal/self_collide.hpp"
 #include "conecull/traversal/stats.hpp"
 
@@ -31,8 +32,8 @@ class SelfCollider {
     SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size);
 
     // V: (n_vertices, 3) float64, row-major, validated by the caller. The BVH and contours are
-    // built from the first pose given.
-    DcdResult dcd(const double* V);
+    // built from the first pose given. With a tracer, the query's events are appended to it.
+    DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr);
 
     bool built() const { return built_; }
     Method method() const { return method_; }
@@ -43,6 +44,8 @@ class SelfCollider {
 
    private:
     void build(const double* V);
+    template <class Tracer>
+    void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res);
 
     std::shared_ptr<const Topology> topo_;
     Method method_;

@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from conecull import _core
+from conecull.trace import Trace
 
 METHODS = ("aabb", "nc")
 
@@ -146,6 +147,8 @@ class DcdResult:
     """(k, 2) int64 colliding triangle ids, i < j, rows sorted lexicographically."""
     stats: dict = field(default_factory=dict)
     """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs) and seconds per stage."""
+    trace: Trace | None = None
+    """The query's events (conecull.trace schema) when queried with trace=True."""
 
 
 class SelfCollider:
@@ -168,11 +171,11 @@ class SelfCollider:
         self.leaf_size = int(leaf_size)
         self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size)
 
-    def dcd(self, V) -> DcdResult:
-        """Discrete self-collision query at positions V (n, 3)."""
+    def dcd(self, V, trace: bool = False) -> DcdResult:
+        """Discrete self-collision query at positions V (n, 3); trace=True also records its events."""
         a = _as_positions(V, self.mesh.n_vertices)
-        pairs, stats = self._core.dcd(a)
-        return DcdResult(pairs=pairs, stats=stats)
+        pairs, stats, raw = self._core.dcd(a, bool(trace))
+        return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:

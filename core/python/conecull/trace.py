@@ -1,0 +1,121 @@
+"""The event schema of conecull traces: one definition of every event kind, its fields, their
+shapes and units, shared by the core's Python façade and both viewers (rerun, viser).
+
+A traced query (`col.dcd(V, trace=True)`) returns a `Trace`: per event kind a table of NumPy
+columns (struct-of-arrays). Node ids index the arrays of `SelfCollider.bvh_arrays()`.
+Later kinds (CCD steps, BVTT front changes) extend `EVENT_KINDS`; existing fields never change.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Field:
+    name: str
+    dtype: str
+    shape: tuple  # per event, () for scalars
+    unit: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class EventKind:
+    name: str
+    doc: str
+    fields: tuple[Field, ...]
+
+
+EVENT_KINDS: dict[str, EventKind] = {
+    k.name: k
+    for k in (
+        EventKind("cone", "Normal cone test of a node (Alg. 2 line 5: ApexAngle(C_N) < pi).", (
+            Field("node", "int32", (), "node id", "BVH node"),
+            Field("axis", "float64", (3,), "unit vector", "cone axis l, the projection direction of the contour test"),
+            Field("apex_angle", "float64", (), "rad", "certified apex angle (twice the half-angle); 2 pi when full"),
+            Field("bounded", "bool", (), "", "apex angle < pi: every exact normal below has n . l > 0"),
+        )),
+        EventKind("contour", "Contour test of a node whose cone passed (Alg. 1), or why it could not run.", (
+            Field("node", "int32", (), "node id", "BVH node"),
+            Field("reason", "uint8", (), "code", "0 passed (culled); 1-5 why Alg. 1 failed; 16+ why the node is ineligible (REASONS)"),
+            Field("edge", "int32", (), "contour index", "contour edge (v_i, v_i+1) / vertex where Alg. 1 failed; -1 if none"),
+            Field("crossings", "int32", (), "count", "ray crossings counted before the verdict"),
+            Field("kernel", "float64", (3,), "length", "kernel point o (mean of the contour vertices)"),
+            Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
+        )),
+        EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node).", (
+            Field("pairs", "int64", (), "count", "node pairs visited"),
+            Field("overlaps", "int64", (), "count", "of which the boxes overlapped"),
+        )),
+        EventKind("elementary", "Exact triangle-triangle tests of the candidate pairs.", (
+            Field("pair", "int32", (2,), "face ids", "the two triangles, i < j"),
+            Field("result", "bool", (), "", "they collide"),
+        )),
+    )
+}
+
+# Plain-language reasons, for logs, panels and `conecull explain`.
+REASONS: dict[int, tuple[str, str]] = {
+    0: ("passed", "the contour projects to a star-shaped polygon around its kernel point: no self-collision, culled"),
+    1: ("kernel_sign_zero", "the kernel point lies exactly on the line of contour edge {edge}, so the kernel test cannot pass"),
+    2: ("not_star_shaped", "contour edge {edge} turns the other way around the kernel point: the projected contour is not star-shaped from it"),
+    3: ("ray_through_vertex", "the test ray passes exactly through contour vertex {edge} for every ray direction tried"),
+    4: ("multiple_crossings", "the ray from the kernel point crosses the contour {crossings} times: the projected contour winds more than once"),
+    5: ("no_crossing", "the ray never crosses the contour"),
+    16 + 1: ("nonmanifold", "the node's triangles touch a non-manifold edge or vertex, so it is never culled by normal cones"),
+    16 + 2: ("inconsistent_orientation", "an edge inside the node is used twice in the same direction (or more than twice)"),
+    16 + 3: ("disconnected", "the node's triangles are not one connected patch"),
+    16 + 4: ("no_boundary", "the node's patch is closed: it has no boundary contour"),
+    16 + 5: ("pinched_boundary", "the node's boundary passes through a vertex twice: not a simple cycle"),
+    16 + 6: ("multiple_loops", "the node's patch has holes: more than one boundary loop"),
+}
+CONE_TOO_WIDE = ("cone_too_wide", "its normal cone is {angle:.1f} degrees wide (apex angle >= 180): normals point to both sides")
+
+
+def reason_name(code: int) -> str:
+    return REASONS[int(code)][0]
+
+
+def explain(code: int, edge: int = -1, crossings: int = 0) -> str:
+    return REASONS[int(code)][1].format(edge=int(edge), crossings=int(crossings))
+
+
+class Trace:
+    """Events of one traced query: `trace.cone["axis"]`, `trace.contour["reason"]`, ..."""
+
+    def __init__(self, raw: dict):
+        self.cone = {f.name: raw["cone_" + f.name] for f in EVENT_KINDS["cone"].fields}
+        self.contour = {f.name: raw["contour_" + f.name] for f in EVENT_KINDS["contour"].fields}
+        self.level = {"pairs": raw["level_pairs"], "overlaps": raw["level_overlaps"]}
+        self.elementary = {"pair": raw["elementary_pair"], "result": raw["elementary_result"]}
+        for kind in ("cone", "contour", "level", "elementary"):
+            table = getattr(self, kind)
+            for f in EVENT_KINDS[kind].fields:
+                a = table[f.name]
+                assert a.dtype == np.dtype(f.dtype) and a.shape[1:] == f.shape, (kind, f.name, a.dtype, a.shape)
+
+    def culled_nodes(self) -> np.ndarray:
+        """Nodes culled by the normal cone + contour test."""
+        return self.contour["node"][self.contour["reason"] == 0]
+
+    def failed_nodes(self) -> dict[str, np.ndarray]:
+        """Nodes that were not culled, by reason (cone too wide, or a contour reason)."""
+        out = {"cone_too_wide": self.cone["node"][~self.cone["bounded"]]}
+        for code in np.unique(self.contour["reason"]):
+            if code != 0:
+                out[reason_name(code)] = self.contour["node"][self.contour["reason"] == code]
+        return out
+
+    def counts(self) -> dict[str, int]:
+        c = {"cone_tests": len(self.cone["node"]), "cone_passed": int(self.cone["bounded"].sum()),
+             "elementary_tests": len(self.elementary["result"]),
+             "colliding_pairs": int(self.elementary["result"].sum())}
+        r = self.contour["reason"]
+        c["contour_ineligible"] = int((r >= 16).sum())
+        c["contour_tests"] = int((r < 16).sum())
+        c["contour_passed"] = int((r == 0).sum())
+        c["contour_failed"] = int(((r > 0) & (r < 16)).sum())
+        return c
