@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # One entry point for a fresh machine that has python3, g++ and cmake:
-#   ./dev.sh demo     set up, then run the demo (a DCD run on a generated scene)
+#   ./dev.sh demo     set up, then record the demo (demo.rrd: a sheet folding onto itself)
 #   ./dev.sh test     set up, then run the test suite
 #   ./dev.sh bench    set up, then run the DCD benchmark (tables + JSON in bench-results/)
 # Set-up creates .venv/ and installs conecull into it (editable, so rebuilds are incremental).

@@ -1,4 +1,4 @@
-"""The `conecull` command line: demo, bench."""
+"""The `conecull` command line: demo, record, explain, bench."""
 
 from __future__ import annotations
 
@@ -10,9 +10,23 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="conecull", description="Reliable self-collision culling with unprojected normal cones")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("demo", help="run DCD on a generated scene (a sheet folding onto itself) and print per-frame stats")
-    p.add_argument("--triangles", type=int, default=8000, help="approximate triangle count (default 8000)")
-    p.add_argument("--frames", type=int, default=24, help="number of frames (default 24)")
+    p = sub.add_parser("demo", help="record the demo scene (a sheet folding onto itself) to an .rrd and print per-frame stats")
+    p.add_argument("--out", default="demo.rrd", help="recording to write (default demo.rrd)")
+    p.add_argument("--method", choices=["aabb", "nc"], default="nc")
+
+    p = sub.add_parser("record", help="trace a mesh sequence and write a rerun recording (.rrd)")
+    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
+    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--out", default="run.rrd", help="recording to write (default run.rrd)")
+    p.add_argument("--method", choices=["aabb", "nc"], default="nc")
+    p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
+    p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
+
+    p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
+    p.add_argument("input", help=INPUT_HELP)
+    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--frame", type=int, required=True)
+    p.add_argument("--node", type=int, required=True)
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
@@ -23,10 +37,53 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
 
     args = parser.parse_args(argv)
+    try:
+        return _run(args)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"conecull {args.command}: error: {e}", file=sys.stderr)
+        return 2
+
+
+INPUT_HELP = ("a scene name (bend, fold, crumple), a folder of OBJ/PLY frames with identical faces, "
+              "or one mesh file (with --positions)")
+
+
+def _progress(done: int, total: int) -> None:
+    width = 30
+    fill = width * done // total
+    end = "\n" if done == total else ""
+    print(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} frames", end=end, file=sys.stderr, flush=True)
+
+
+def _run(args) -> int:
     if args.command == "demo":
         from conecull.app.demo import run_demo
 
-        return run_demo(args.triangles, args.frames, args.method)
+        return run_demo(args.out, args.method)
+    if args.command == "record":
+        from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
+        from conecull.viz.rerun_sink import record
+
+        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions)
+        rng = parse_frames(args.frames, len(frames))
+        stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
+                       progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None)
+        print(f"wrote {args.out}: {len(stats)} frames, {len(F)} triangles, method {args.method}; "
+              f"open it with: rerun {args.out}")
+        return 0
+    if args.command == "explain":
+        import conecull
+        from conecull.datasets.inputs import load_sequence
+        from conecull.viz.explain import explain_node
+
+        F, frames = load_sequence(args.input, args.positions)
+        if not 0 <= args.frame < len(frames):
+            raise ValueError(f"--frame: {args.frame} is out of range: the input has frames 0..{len(frames) - 1}")
+        col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
+        col.dcd(frames[0])  # the BVH (and so node ids) come from the first frame, as in `record`
+        res = col.dcd(frames[args.frame], trace=True)
+        print(explain_node(col, res, args.node))
+        return 0
     if args.command == "bench":
         from conecull.app.bench import run_dcd_bench
 

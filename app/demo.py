@@ -1,32 +1,25 @@
-"""The demo: a sheet folding onto itself, queried frame by frame with DCD; prints what was
-culled and what collides. Headless; the debugger issue turns it into a recording."""
+"""The demo: the `fold` scene (a sheet folding onto itself until it passes through), traced
+frame by frame and recorded to an .rrd; prints what was culled and what collides. Headless."""
 
 from __future__ import annotations
 
 import time
 
-import numpy as np
-
-import conecull
-from conecull.datasets.generated import folding_sheet
+from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
+from conecull.viz.rerun_sink import record
 
 
-def run_demo(n_triangles: int = 8000, n_frames: int = 24, method: str = "nc") -> int:
-    F, frames = folding_sheet(n_triangles=n_triangles, n_frames=n_frames)
-    mesh = conecull.Mesh(F)
-    col = conecull.SelfCollider(mesh, method=method)
-    print(f"conecull demo: folding sheet, {mesh.n_faces} triangles, {n_frames} frames, method={method}")
-    print(f"{'frame':>5} {'cone tests':>10} {'culled':>7} {'contour fail':>12} {'elem tests':>10} {'colliding':>9} {'ms':>7}")
-    total = 0.0
-    for k, V in enumerate(frames):
-        t = time.perf_counter()
-        res = col.dcd(V)
-        ms = 1e3 * (time.perf_counter() - t)
-        total += ms
-        s = res.stats
+def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
+    F, frames = load_sequence(DEFAULT_SCENE)
+    print(f"conecull demo: scene '{DEFAULT_SCENE}', {len(F)} triangles, {len(frames)} frames, method={method}")
+    t = time.perf_counter()
+    stats = record(out, F, frames, method=method)
+    secs = time.perf_counter() - t
+    print(f"{'frame':>5} {'cone tests':>10} {'culled':>7} {'contour fail':>12} {'elem tests':>10} {'colliding':>9} {'query ms':>8}")
+    for k, s in enumerate(stats):
+        ms = 1e3 * (s["seconds_refit"] + s["seconds_traversal"] + s["seconds_elementary"])
         print(f"{k:5d} {s['cone_tests']:10d} {s['contour_passed']:7d} {s['contour_failed']:12d} "
-              f"{s['elementary_tests']:10d} {s['colliding_pairs']:9d} {ms:7.2f}")
-    print(f"last frame stats: {res.stats}")
-    print(f"colliding triangle pairs at the last frame: {len(res.pairs)} (first: {res.pairs[:3].tolist()})")
-    print(f"total {total:.1f} ms for {n_frames} frames (the first includes building the BVH and contours)")
+              f"{s['elementary_tests']:10d} {s['colliding_pairs']:9d} {ms:8.2f}")
+    print(f"wrote {out} in {secs:.1f} s (traced queries + recording).")
+    print(f"open it with:   rerun {out}        (the viewer ships with rerun-sdk in .venv/bin)")
     return 0

@@ -1,0 +1,78 @@
+"""The CLI: record, explain, and its errors (run in-process through main())."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from conecull.app.cli import main
+from conecull.datasets.generated import folding_sheet
+
+
+def test_record_default_scene_and_frames(tmp_path, capsys):
+    out = tmp_path / "run.rrd"
+    assert main(["record", "--out", str(out), "--frames", "2:5"]) == 0
+    assert out.stat().st_size > 0
+    assert "3 frames" in capsys.readouterr().out
+
+
+def test_explain_reports_reason(capsys):
+    # Frame 0 of 'fold' is flat: the root is culled. At the last frame the root's cone is full.
+    assert main(["explain", "fold", "--frame", "0", "--node", "0"]) == 0
+    assert "verdict: culled, passed" in capsys.readouterr().out
+    assert main(["explain", "fold", "--frame", "29", "--node", "0"]) == 0
+    assert "cone_too_wide" in capsys.readouterr().out
+
+
+def test_explain_known_failing_contour(capsys):
+    """A node whose contour test fails on a known reason: find one in the trace, then explain it."""
+    import conecull
+    from conecull.datasets.inputs import load_sequence
+
+    F, frames = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    col.dcd(frames[0])
+    res = col.dcd(frames[20], trace=True)
+    fail = np.flatnonzero((res.trace.contour["reason"] > 0) & (res.trace.contour["reason"] < 16))
+    assert len(fail)
+    node = int(res.trace.contour["node"][fail[0]])
+    from conecull.trace import reason_name
+
+    name = reason_name(res.trace.contour["reason"][fail[0]])
+    assert main(["explain", "crumple", "--frame", "20", "--node", str(node)]) == 0
+    text = capsys.readouterr().out
+    assert f"verdict: not culled, {name}" in text and f"node {node}" in text
+
+
+def test_folder_and_npz_inputs(tmp_path, capsys):
+    F, frames = folding_sheet(200, 4)
+    d = tmp_path / "frames"
+    d.mkdir()
+    for k, V in enumerate(frames):
+        trimesh.Trimesh(V, F, process=False).export(d / f"f{k:03d}.ply")
+    assert main(["record", str(d), "--out", str(tmp_path / "a.rrd")]) == 0
+    trimesh.Trimesh(frames[0], F, process=False).export(tmp_path / "m.obj")
+    np.savez(tmp_path / "p.npz", positions=frames)
+    assert main(["record", str(tmp_path / "m.obj"), "--positions", str(tmp_path / "p.npz"), "--out", str(tmp_path / "b.rrd")]) == 0
+    # faces that differ between frames
+    trimesh.Trimesh(frames[1], F[::-1], process=False).export(d / "f999.ply")
+    assert main(["record", str(d), "--out", str(tmp_path / "c.rrd")]) == 2
+    assert "different faces" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["record", "no/such/path"], "neither a scene"),
+    (["record", "fold", "--frames", "40:50"], "selects no frame"),
+    (["record", "fold", "--frames", "x"], "expected A:B or K"),
+    (["explain", "fold", "--frame", "99", "--node", "0"], "--frame: 99 is out of range"),
+    (["explain", "fold", "--frame", "0", "--node", "99999"], "--node: 99999 is out of range"),
+])
+def test_cli_errors(argv, msg, capsys):
+    assert main(argv) == 2
+    assert msg in capsys.readouterr().err
+
+
+def test_unreadable_mesh(tmp_path, capsys):
+    bad = tmp_path / "bad.obj"
+    bad.write_text("this is not a mesh\n")
+    assert main(["record", str(bad)]) == 2
+    assert "bad.obj" in capsys.readouterr().err
