@@ -22,6 +22,13 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
     p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
 
+    p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
+    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
+    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--port", type=int, default=8080, help="port (viser moves to the next free one; the real one is printed)")
+    p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
+    p.add_argument("--method", choices=["aabb", "nc"], default="nc")
+
     p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
     p.add_argument("input", help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
@@ -70,6 +77,13 @@ def _run(args) -> int:
                        progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None)
         print(f"wrote {args.out}: {len(stats)} frames, {len(F)} triangles, method {args.method}; "
               f"open it with: rerun {args.out}")
+        return 0
+    if args.command == "view":
+        from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
+        from conecull.viz.viser_app import ViewerApp, serve_forever
+
+        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions)
+        serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method))
         return 0
     if args.command == "explain":
         import conecull

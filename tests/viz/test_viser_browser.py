@@ -1,0 +1,83 @@
+"""Browser test of the viser app: Playwright driving Debian's chromium (never `playwright
+install`). Start the app on a free port, change the frame, click the mesh, check that the
+selection panel changed, save a screenshot, close everything."""
+
+import os
+import shutil
+import socket
+import time
+
+import numpy as np
+import pytest
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+if not CHROMIUM:
+    if os.environ.get("CI"):
+        raise RuntimeError("chromium is required in CI (.ci/run installs it with apt)")
+    pytest.skip("no chromium on this machine (apt-get install chromium); CI installs it", allow_module_level=True)
+playwright = pytest.importorskip("playwright.sync_api")
+
+ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync"]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def wait_for(pred, timeout=30.0, what="condition"):
+    t0 = time.time()
+    while time.time() - t0 < timeout:
+        if pred():
+            return
+        time.sleep(0.1)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+def test_viewer_in_browser(tmp_path):
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("fold")
+    app = ViewerApp(F, frames, port=free_port())
+    try:
+        with playwright.sync_playwright() as p:
+            ctx = p.chromium.launch_persistent_context(str(tmp_path / "profile"), executable_path=CHROMIUM,
+                                                       headless=True, args=ARGS, viewport={"width": 1000, "height": 700})
+            try:
+                page = ctx.new_page()
+                page.goto(f"http://127.0.0.1:{app.port}")
+                page.wait_for_selector("canvas", timeout=30000)
+                page.get_by_text("Click the mesh to select").wait_for(timeout=30000)
+                wait_for(lambda: len(app.server.get_clients()) > 0, what="a client")
+                # Change the frame by typing into the slider's number input.
+                frame_box = page.locator("input.mantine-NumberInput-input").first  # the frame slider's number box
+                frame_box.fill("29")
+                frame_box.press("Enter")
+                wait_for(lambda: int(app.frame.value) == 29, what="frame 29 on the server")
+                # Aim the camera at the middle of the sheet, then click the middle of the canvas.
+                V = frames[29]
+                center = V.mean(axis=0)
+                for client in app.server.get_clients().values():
+                    client.camera.position = tuple(center + np.array([0.0, -0.05, 1.6]))
+                    client.camera.look_at = tuple(center)
+                time.sleep(1.5)
+                before = app.panel.content
+                box = page.locator("canvas").first.bounding_box()
+                page.mouse.click(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+                wait_for(lambda: app.panel.content != before, what="the selection panel to change")
+                assert "→ node" in app.panel.content and "verdict:" in app.panel.content
+                # The page shows the new panel text too.
+                page.get_by_text("path to root", exact=False).first.wait_for(timeout=15000)
+                time.sleep(1.0)
+                shot = tmp_path / "viser.png"
+                page.screenshot(path=str(shot))
+                assert shot.stat().st_size > 10000
+                if os.environ.get("CONECULL_SCREENSHOT_DIR"):
+                    shutil.copy(shot, os.path.join(os.environ["CONECULL_SCREENSHOT_DIR"], "viser.png"))
+            finally:
+                ctx.close()
+    finally:
+        app.close()

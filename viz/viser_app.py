@@ -1,0 +1,208 @@
+"""viser app: the debugger's layers live in the browser.
+
+Frame slider and play, method dropdown, BVH depth slider, a toggle per layer; click the mesh
+to select the node at the chosen depth that holds the clicked triangle: its cone and contour
+are drawn, and a panel gives its verdict and the reason in words, and its path to the root.
+Binds 127.0.0.1 unless told otherwise; viser silently moves to the next free port, so the
+real one is `app.port`.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import numpy as np
+import trimesh
+import viser
+
+import conecull
+from conecull.viz import layers as L
+from conecull.viz.explain import explain_node
+
+HIGHLIGHT = (30, 90, 255)
+
+
+def ray_triangle_hit(origin, direction, tri: np.ndarray):
+    """Nearest triangle hit by a ray (Moller-Trumbore on all faces, vectorised), or None."""
+    o, d = np.asarray(origin, float), np.asarray(direction, float)
+    a, b, c = tri[:, 0], tri[:, 1], tri[:, 2]
+    e1, e2 = b - a, c - a
+    p = np.cross(d, e2)
+    det = np.einsum("ij,ij->i", e1, p)
+    ok = np.abs(det) > 1e-15
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    s = o - a
+    u = np.einsum("ij,ij->i", s, p) * inv
+    q = np.cross(s, e1)
+    v = (q @ d) * inv
+    t = np.einsum("ij,ij->i", e2, q) * inv
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t > 0)
+    if not hit.any():
+        return None
+    idx = np.flatnonzero(hit)
+    return int(idx[np.argmin(t[idx])])
+
+
+def node_at_depth(bvh: dict, face: int, depth: int) -> int:
+    """The node at `depth` (or the leaf, if shallower) whose triangle range holds `face`."""
+    pos = int(np.flatnonzero(bvh["order"] == face)[0])
+    node = 0
+    while bvh["depth"][node] < depth and bvh["right"][node] >= 0:
+        left = bvh["left"][node]
+        node = left if bvh["begin"][left] <= pos < bvh["end"][left] else bvh["right"][node]
+    return node
+
+
+def box_segments(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(k * 12, 2, 3) edges of k boxes."""
+    corners = np.array([[i, j, k] for i in (0, 1) for j in (0, 1) for k in (0, 1)], float)
+    edges = [(0, 1), (0, 2), (0, 4), (1, 3), (1, 5), (2, 3), (2, 6), (3, 7), (4, 5), (4, 6), (5, 7), (6, 7)]
+    pts = lo[:, None, :] + corners[None] * (hi - lo)[:, None, :]
+    return np.concatenate([pts[:, [a, b]] for a, b in edges], axis=0).reshape(-1, 2, 3)
+
+
+def strip_segments(strips) -> np.ndarray:
+    if not strips:
+        return np.zeros((0, 2, 3))
+    return np.concatenate([np.stack([s[:-1], s[1:]], axis=1) for s in strips])
+
+
+class ViewerApp:
+    def __init__(self, faces, frames, *, host: str = "127.0.0.1", port: int = 8080, method: str = "nc"):
+        self.faces = np.asarray(faces, np.int64)
+        self.frames = np.asarray(frames, np.float64)
+        mesh = conecull.Mesh(self.faces, n_vertices=self.frames.shape[1])
+        self.colliders = {}
+        for m in conecull.METHODS:
+            col = conecull.SelfCollider(mesh, method=m)
+            col.dcd(self.frames[0])  # node ids come from the first frame, as in `record`
+            self.colliders[m] = col
+        self.max_depth = int(self.colliders[method].bvh_arrays()["depth"].max())
+        self.selected_face: int | None = None
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+
+        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        self.port = self.server.get_port()
+        gui = self.server.gui
+        gui.add_markdown("**conecull** — why each region was culled or not")
+        self.frame = gui.add_slider("frame", min=0, max=max(1, len(self.frames) - 1), step=1, initial_value=0)
+        self.play = gui.add_checkbox("play", initial_value=False)
+        self.method = gui.add_dropdown("method", list(conecull.METHODS), initial_value=method)
+        self.depth = gui.add_slider("BVH depth", min=0, max=max(1, self.max_depth), step=1, initial_value=min(4, self.max_depth))
+        with gui.add_folder("layers"):
+            self.show_mesh = gui.add_checkbox("mesh (colour = verdict)", initial_value=True)
+            self.show_contours = gui.add_checkbox("failing contours", initial_value=True)
+            self.show_cones = gui.add_checkbox("cone axes", initial_value=False)
+            self.show_boxes = gui.add_checkbox("BVH boxes at depth", initial_value=False)
+        legend = " · ".join(f"<span style='color:rgb{tuple(int(c) for c in L.STATUS_COLORS[i])}'>■</span> {n}"
+                            for i, n in enumerate(L.STATUS_NAMES))
+        gui.add_markdown(legend)
+        self.stats_md = gui.add_markdown("")
+        with gui.add_folder("selected node"):
+            self.panel = gui.add_markdown("Click the mesh to select the node at the chosen depth that holds that triangle.")
+
+        for handle in (self.frame, self.method, self.depth, self.show_mesh, self.show_contours, self.show_cones, self.show_boxes):
+            handle.on_update(lambda _event: self.update())
+        self.update()
+        self._player = threading.Thread(target=self._play_loop, daemon=True)
+        self._player.start()
+
+    # --- state -----------------------------------------------------------------------------
+    @property
+    def col(self):
+        return self.colliders[self.method.value]
+
+    def _play_loop(self):
+        while not self._stop.wait(0.3):
+            if self.play.value:
+                self.frame.value = (int(self.frame.value) + 1) % len(self.frames)
+
+    def update(self):
+        with self._lock:
+            k = int(self.frame.value)
+            V = self.frames[k]
+            res = self.col.dcd(V, trace=True)
+            self.res, self.V = res, V
+            lay = L.compute(self.col, self.faces, V, res)
+            scene = self.server.scene
+            with self.server.atomic():
+                exploded = V[self.faces].reshape(-1, 3)
+                tm = trimesh.Trimesh(vertices=exploded, faces=np.arange(len(exploded)).reshape(-1, 3),
+                                     vertex_colors=np.repeat(lay.face_colors, 3, axis=0), process=False)
+                handle = scene.add_mesh_trimesh("/mesh", tm, visible=bool(self.show_mesh.value))
+                handle.on_click(self._on_click)
+                segs = strip_segments(lay.contour_strips)
+                colors = np.repeat(np.array([L.REASON_COLORS[int(c)] for c in lay.contour_reasons], np.uint8).reshape(-1, 3),
+                                   [len(s) - 1 for s in lay.contour_strips], axis=0) if len(segs) else np.zeros((0, 3), np.uint8)
+                scene.add_line_segments("/contours", segs.reshape(-1, 2, 3), np.repeat(colors[:, None], 2, axis=1),
+                                        thickness=2.0, thickness_units="screen", visible=bool(self.show_contours.value))
+                arrows = np.stack([lay.cone_origins, lay.cone_origins + lay.cone_vectors], axis=1)
+                cone_col = np.where(lay.cone_bounded[:, None], [[80, 175, 95]], [[235, 195, 60]]).astype(np.uint8)
+                scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), cone_col.reshape(-1, 3),
+                                 shaft_radius=0.002, head_radius=0.006, head_length=0.012, visible=bool(self.show_cones.value))
+                bvh = self.col.bvh_arrays()
+                sel = np.flatnonzero(bvh["depth"] == int(self.depth.value))
+                scene.add_line_segments("/bvh", box_segments(bvh["box"][sel, 0], bvh["box"][sel, 1]), (120, 120, 200),
+                                        thickness=1.0, thickness_units="screen", visible=bool(self.show_boxes.value))
+                s = res.stats
+                self.stats_md.content = (
+                    f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
+                    f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
+                    f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**")
+                self._draw_selection()
+
+    def _on_click(self, event):
+        face = ray_triangle_hit(event.ray_origin, event.ray_direction, self.V[self.faces])
+        if face is None:
+            return
+        with self._lock:
+            self.selected_face = face
+            with self.server.atomic():
+                self._draw_selection()
+
+    def select_face(self, face: int):
+        """Programmatic click (tests, scripts)."""
+        with self._lock:
+            self.selected_face = int(face)
+            self._draw_selection()
+
+    def _draw_selection(self):
+        scene = self.server.scene
+        if self.selected_face is None:
+            return
+        bvh = self.col.bvh_arrays()
+        node = node_at_depth(bvh, self.selected_face, int(self.depth.value))
+        text = explain_node(self.col, self.res, node)
+        self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {int(self.frame.value)})\n\n" + \
+            "\n\n".join(text.splitlines())
+        ct = self.col.contour_arrays()
+        loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
+        if len(loop):
+            pts = self.V[np.append(loop, loop[0])]
+            scene.add_line_segments("/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
+                                    thickness=4.0, thickness_units="screen")
+        else:
+            scene.add_line_segments("/selected/contour", np.zeros((0, 2, 3)), HIGHLIGHT)
+        cones = self.col.cone_arrays()
+        if len(cones["axis"]) > node:
+            c = 0.5 * (bvh["box"][node, 0] + bvh["box"][node, 1])
+            size = float(np.linalg.norm(bvh["box"][node, 1] - bvh["box"][node, 0]))
+            scene.add_arrows("/selected/cone", np.array([[c, c + cones["axis"][node] * 0.6 * size]]), HIGHLIGHT,
+                             shaft_radius=0.004, head_radius=0.012, head_length=0.02)
+
+    def close(self):
+        self._stop.set()
+        self.server.stop()
+
+
+def serve_forever(app: ViewerApp) -> None:  # pragma: no cover - interactive
+    print(f"conecull view: open http://127.0.0.1:{app.port} (Ctrl+C to stop)", flush=True)
+    try:
+        while True:
+            time.sleep(1.0)
+    except KeyboardInterrupt:
+        pass
+    finally:
+        app.close()
