@@ -65,7 +65,8 @@ class RerunRecorder:
         bvh = col.bvh_arrays()
         sel = np.flatnonzero(bvh["depth"] == self.bvh_depth)
         lo, hi = bvh["box"][sel, 0], bvh["box"][sel, 1]
-        rec.log("/scene/bvh", rr.Boxes3D(centers=0.5 * (lo + hi), half_sizes=0.5 * (hi - lo), colors=[[120, 120, 200]]))
+        rec.log("/scene/bvh", rr.Boxes3D(centers=0.5 * (lo + hi), half_sizes=0.5 * (hi - lo), colors=[[120, 120, 200]],
+                                          fill_mode=rr.components.FillMode.MajorWireframe))
 
         s = res.stats
         rec.log("/stats/tests/cone", rr.Scalars(s["cone_tests"]))

@@ -106,7 +106,7 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
     };
     std::vector<Candidate> cand;
     std::vector<std::pair<int64_t, double>> keyed;
-    std::vector<uint8_t> matched;
+    std::vector<uint8_t> matched, seen;
     std::vector<int32_t> next;
     while (active.size() > 1) {
         // Cut edges between the current clusters; an edge inside a cluster is dropped for good.
@@ -138,24 +138,44 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
             if (p.score != q.score) return p.score < q.score;
             return p.a != q.a ? p.a < q.a : p.b < q.b;
         });
-        matched.assign(tree.left.size(), 0);
+        const size_t n_ids = tree.left.size();
+        matched.assign(n_ids, 0);
         next.clear();
+        auto merge = [&](int32_t x, int32_t y, double shared) {
+            const int32_t id = tree.add(x, y);
+            area.push_back(area[x] + area[y]);
+            perimeter.push_back(std::max(0.0, perimeter[x] + perimeter[y] - 2.0 * shared));
+            size.push_back(size[x] + size[y]);
+            center.push_back((size[x] / size[id]) * center[x] + (size[y] / size[id]) * center[y]);
+            const int32_t rx = root(representative[x]), ry = root(representative[y]);
+            parent[ry] = rx;
+            cluster_of_root[rx] = id;
+            representative.push_back(rx);
+            return id;
+        };
+        // Most compact merges first (greedy matching).
         for (const Candidate& c : cand) {
             if (matched[c.a] || matched[c.b]) continue;
             matched[c.a] = matched[c.b] = 1;
-            const int32_t id = tree.add(c.a, c.b);
-            area.push_back(area[c.a] + area[c.b]);
-            perimeter.push_back(std::max(0.0, perimeter[c.a] + perimeter[c.b] - 2.0 * c.shared));
-            size.push_back(size[c.a] + size[c.b]);
-            center.push_back((size[c.a] / size[id]) * center[c.a] + (size[c.b] / size[id]) * center[c.b]);
-            const int32_t ra = root(representative[c.a]), rb = root(representative[c.b]);
-            parent[rb] = ra;
-            cluster_of_root[ra] = id;
-            representative.push_back(ra);
-            next.push_back(id);
+            merge(c.a, c.b, c.shared);
         }
-        for (int32_t a : active)
-            if (!matched[a]) next.push_back(a);
+        // A cluster left without partner joins its most compact neighbour's new cluster right
+        // away; left waiting, stragglers end up joining one giant cluster one by one at the top,
+        // which made the tree hundreds of levels deep.
+        for (const Candidate& c : cand) {
+            for (const int32_t lone : {c.a, c.b}) {
+                const int32_t other = lone == c.a ? c.b : c.a;
+                if (matched[lone] || !matched[other]) continue;
+                matched[lone] = 1;
+                merge(cluster(representative[other]), lone, c.shared);
+            }
+        }
+        seen.assign(tree.left.size(), 0);
+        for (int32_t a : active) {
+            const int32_t now = matched[a] ? cluster(representative[a]) : a;
+            if (!seen[now]) next.push_back(now);
+            seen[now] = 1;
+        }
         active.swap(next);
     }
     if (active.size() == 1) return active[0];

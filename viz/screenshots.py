@@ -1,0 +1,110 @@
+"""Screenshots of both viewers for the README, with the same headless tooling as the tests
+(Debian chromium driven by Playwright): `python -m conecull.viz.screenshots OUTDIR`."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+ARGS = ["--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
+        "--disable-component-update", "--disable-sync"]
+VIEWPORT = {"width": 960, "height": 560}
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _browser(p):
+    exe = shutil.which("chromium") or shutil.which("chromium-browser")
+    if not exe:
+        raise RuntimeError("chromium not found (apt-get install chromium)")
+    return p.chromium.launch_persistent_context(tempfile.mkdtemp(), executable_path=exe, headless=True, args=ARGS,
+                                                viewport=VIEWPORT)
+
+
+def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24) -> None:
+    """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC."""
+    import rerun as rr
+    import rerun_cli
+    from playwright.sync_api import sync_playwright
+
+    import conecull
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.rerun_sink import RerunRecorder, blueprint
+
+    web, grpc = _free_port(), _free_port()
+    exe = os.path.join(os.path.dirname(rerun_cli.__file__), "rerun")
+    proc = subprocess.Popen([exe, "--bind", "127.0.0.1", "--serve-web", "--web-viewer-port", str(web), "--port", str(grpc)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        time.sleep(3)
+        F, frames = load_sequence(scene)
+        col = conecull.SelfCollider(conecull.Mesh(F))
+        col.dcd(frames[0])
+        rec = RerunRecorder.__new__(RerunRecorder)  # same logging, other sink: gRPC instead of a file
+        rec.rec = rr.RecordingStream("conecull", recording_id="screenshot")
+        rec.rec.connect_grpc(f"rerun+http://127.0.0.1:{grpc}/proxy")
+        rec.rec.send_blueprint(blueprint())
+        rec.faces, rec.bvh_depth = conecull.Mesh(F).faces, 4
+        for k in range(frame + 1):
+            rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True))
+        rec.rec.flush()
+        with sync_playwright() as p:
+            ctx = _browser(p)
+            page = ctx.new_page()
+            page.goto(f"http://127.0.0.1:{web}/?url=rerun%2Bhttp://127.0.0.1:{grpc}/proxy")
+            time.sleep(12)  # the web viewer renders with software WebGL
+            page.screenshot(path=path)
+            ctx.close()
+        rec.rec.disconnect()
+    finally:
+        proc.terminate()
+        proc.wait(10)
+
+
+def viser_screenshot(path: str, scene: str = "crumple", frame: int = 20) -> None:
+    from playwright.sync_api import sync_playwright
+
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence(scene)
+    app = ViewerApp(F, frames, port=_free_port())
+    try:
+        with sync_playwright() as p:
+            ctx = _browser(p)
+            page = ctx.new_page()
+            page.goto(f"http://127.0.0.1:{app.port}")
+            page.wait_for_selector("canvas", timeout=30000)
+            while not app.server.get_clients():
+                time.sleep(0.1)
+            app.frame.value = frame
+            app.show_contours.value = True
+            center = frames[frame].mean(axis=0)
+            for client in app.server.get_clients().values():
+                client.camera.position = tuple(center + np.array([0.9, -0.9, 0.7]))
+                client.camera.look_at = tuple(center)
+            app.select_face(int(np.argmax(frames[frame][F][:, :, 2].mean(axis=1))))
+            time.sleep(3)
+            page.screenshot(path=path)
+            ctx.close()
+    finally:
+        app.close()
+
+
+if __name__ == "__main__":
+    out = sys.argv[1] if len(sys.argv) > 1 else "."
+    os.makedirs(out, exist_ok=True)
+    viser_screenshot(os.path.join(out, "viser.png"))
+    rerun_screenshot(os.path.join(out, "rerun.png"))
+    print(f"wrote {out}/viser.png and {out}/rerun.png")
