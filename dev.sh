@@ -2,7 +2,7 @@
 # One entry point for a fresh machine that has python3, g++ and cmake:
 #   ./dev.sh demo     set up, then record the demo (demo.rrd: a sheet folding onto itself)
 #   ./dev.sh test     set up, then run the test suite
-#   ./dev.sh bench    set up, then run the DCD benchmark (tables + JSON in bench-results/)
+#   ./dev.sh bench    set up, then run the benchmarks (tables + JSON in bench-results/)
 # Set-up creates .venv/ and installs conecull into it (editable, so rebuilds are incremental).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
@@ -31,14 +31,14 @@ PYEOF
     fi
 }
 
-setup() {
+setup() {  # extra arguments go to the final pip install (e.g. CMake defines)
     make_venv
     local pip="$VENV/bin/python -m pip"
     $pip install -q --upgrade pip
     $pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" ninja
     if ! cmake --version >/dev/null 2>&1; then $pip install -q "cmake>=3.18"; fi
     # --no-build-isolation reuses build/ between runs (incremental C++ rebuilds).
-    $pip install -q --no-build-isolation -e ".[test]"
+    $pip install -q --no-build-isolation -e ".[test]" "$@"
 }
 
 cmd=${1:-demo}
@@ -54,6 +54,12 @@ case "$cmd" in
         # pytest's 5 means "no tests collected": a failure here, never a silent pass.
         [ $rc -eq 5 ] && echo "no tests were collected" >&2 && exit 1
         exit $rc ;;
-    bench) setup; exec "$VENV/bin/python" -m conecull bench "$@" ;;
+    bench)
+        # also builds conecull._core_nohooks, the hook-free variant `bench trace` compares with
+        setup -Ccmake.define.CONECULL_NOHOOKS_MODULE=ON
+        if [ $# -eq 0 ]; then
+            "$VENV/bin/python" -m conecull bench dcd && exec "$VENV/bin/python" -m conecull bench trace
+        fi
+        exec "$VENV/bin/python" -m conecull bench "$@" ;;
     *) echo "usage: ./dev.sh {demo|test|bench|setup} [args]" >&2; exit 2 ;;
 esac

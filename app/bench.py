@@ -91,3 +91,56 @@ def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5,
     print()
     print(f"(medians over frames of the per-frame median of {repeats} runs; JSON: {path})")
     return 0
+
+
+def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 7, out: str = "bench-results") -> int:
+    """Trace off vs trace on vs a build without any hook call site (conecull._core_nohooks),
+    on the DCD scene with method nc. The three variants run interleaved, frame by frame."""
+    from conecull import _core
+
+    try:
+        from conecull import _core_nohooks
+    except ImportError:
+        print("conecull._core_nohooks is not built: reinstall with "
+              "`pip install --no-build-isolation -e . -Ccmake.define.CONECULL_NOHOOKS_MODULE=ON` "
+              "(./dev.sh bench does this)")
+        return 1
+    F, frames = _folded_sheet_frames(n_triangles, n_frames)
+    F32 = np.ascontiguousarray(F, dtype=np.int32)
+    n = frames[0].shape[0]
+    variants = {}
+    for name, mod, trace in (("hook-free build", _core_nohooks, False), ("trace off", _core, False),
+                             ("trace on", _core, True)):
+        col = mod.SelfCollider(mod.build_topology(F32, n), "nc", 2)
+        col.dcd(frames[0], False)
+        variants[name] = (col, trace)
+    times = {name: [] for name in variants}
+    for V in frames:
+        runs = {name: [] for name in variants}
+        names = list(variants)
+        for r in range(repeats):
+            for name in names[r % 3:] + names[: r % 3]:  # rotate the order: no position bias
+                col, trace = variants[name]
+                t = time.perf_counter()
+                col.dcd(V, trace)
+                runs[name].append(1e3 * (time.perf_counter() - t))
+        for name in variants:
+            times[name].append(statistics.median(runs[name]))
+    med = {name: statistics.median(v) for name, v in times.items()}
+    base = med["hook-free build"]
+    print(f"# Tracing overhead: folded sheet, {len(F)} triangles, {n_frames} frames, method nc, leaf 2, "
+          f"{repeats} interleaved runs per frame (medians), one thread")
+    print()
+    print("| variant | query ms | vs hook-free | vs trace off |")
+    print("|---|---|---|---|")
+    for name, ms in med.items():
+        print(f"| {name} | {ms:.2f} | {ms / base:.3f}x | {ms / med['trace off']:.3f}x |")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "trace.json")
+    with open(path, "w") as fh:
+        json.dump({"triangles": len(F), "frames": n_frames, "repeats": repeats, "median_ms": med,
+                   "per_frame_ms": times}, fh, indent=1)
+    print()
+    print(f"targets: trace off within 2% of the hook-free build ({med['trace off'] / base - 1:+.1%}), "
+          f"trace on within 2x of trace off ({med['trace on'] / med['trace off']:.2f}x); JSON: {path}")
+    return 0

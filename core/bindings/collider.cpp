@@ -74,7 +74,7 @@ py::dict trace_dict(const RecordingTracer& t) {
 }  // namespace
 
 void bind_collider(py::module_& m) {
-    py::class_<PyCollider, std::shared_ptr<PyCollider>>(m, "SelfCollider")
+    py::class_<PyCollider, std::shared_ptr<PyCollider>>(m, "SelfCollider", py::module_local())
         .def(py::init([](std::shared_ptr<Topology> topo, const std::string& method, int leaf_size) {
                  if (!topo) throw py::value_error("topology: must not be None");
                  if (leaf_size < 1 || leaf_size > 64) throw py::value_error("leaf_size: must be in [1, 64]");

@@ -7,7 +7,7 @@
 namespace conecull::bind {
 
 void bind_mesh(py::module_& m) {
-    py::class_<Topology, std::shared_ptr<Topology>>(m, "Topology")
+    py::class_<Topology, std::shared_ptr<Topology>>(m, "Topology", py::module_local())
         .def_readonly("n_vertices", &Topology::n_vertices)
         .def_property_readonly("n_faces", &Topology::n_faces)
         .def_property_readonly("n_edges", &Topology::n_edges)

@@ -14,7 +14,11 @@ void bind_elementary(py::module_& m);
 void bind_collider(py::module_& m);
 }  // namespace conecull::bind
 
-PYBIND11_MODULE(_core, m) {
+#ifndef CONECULL_MODULE_NAME
+#define CONECULL_MODULE_NAME _core
+#endif
+
+PYBIND11_MODULE(CONECULL_MODULE_NAME, m) {
     using namespace conecull::bind;
     m.doc() = "conecull compiled core (private; use the conecull package)";
     bind_mesh(m);

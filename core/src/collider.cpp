@@ -53,7 +53,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
         const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
         const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
         const bool hit = triangles_collide(fp, P, fq, Q);
-        if constexpr (Tracer::enabled) tracer.on_elementary(c.first, c.second, hit);
+        if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
         if (hit) res.pairs.push_back(c);
     }
     st.elementary_tests = static_cast<int64_t>(candidates_.size());
@@ -70,6 +70,9 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
     if (method_ == Method::kNc) refit_cones(bvh_, *topo_, V, cones_);
     res.stats.seconds_refit = seconds_since(t0);
     // The tracer variant is chosen once per query; the traversal itself has no branches on it.
+#ifdef CONECULL_NO_TRACE_HOOKS
+    tracer = nullptr;
+#endif
     if (tracer) {
         tracer->reserve(bvh_);
         traverse_and_test(V, *tracer, res);

@@ -11,6 +11,7 @@
 #include "conecull/cone/normal_cone.hpp"
 #include "conecull/contour/contour.hpp"
 #include "conecull/contour/contour_test.hpp"
+#include "conecull/trace/null_tracer.hpp"
 #include "conecull/traversal/stats.hpp"
 
 namespace conecull {
@@ -53,19 +54,19 @@ class SelfCollideTraversal {
         const NormalCone& cone = cones_[i];
         ++stats_.cone_tests;
         const bool bounded = cone.bounded();
-        if constexpr (Tracer::enabled) tracer_.on_cone_test(i, cone, bounded);
+        if constexpr (kTraceHooks<Tracer>) tracer_.on_cone_test(i, cone, bounded);
         if (!bounded) return false;
         ++stats_.cone_passed;
         if (!contours_.eligible(i)) {
             ++stats_.contour_ineligible;
-            if constexpr (Tracer::enabled) tracer_.on_contour_ineligible(i, contours_.status[i]);
+            if constexpr (kTraceHooks<Tracer>) tracer_.on_contour_ineligible(i, contours_.status[i]);
             return false;
         }
         ++stats_.contour_tests;
         const ContourVerdict v = unprojected_contour_test(contours_.loop(i), contours_.loop_size(i), V_, cone.axis);
         stats_.contour_edges += v.passed() ? contours_.loop_size(i) : v.edge + 1;
         ++stats_.contour_reasons[static_cast<int>(v.reason)];
-        if constexpr (Tracer::enabled) tracer_.on_contour_test(i, v);
+        if constexpr (kTraceHooks<Tracer>) tracer_.on_contour_test(i, v);
         if (v.passed()) {
             ++stats_.contour_passed;
             return true;
@@ -80,7 +81,7 @@ class SelfCollideTraversal {
         const BvhNode& na = bvh_[a];
         const BvhNode& nb = bvh_[b];
         const bool overlap = na.box.overlaps(nb.box);
-        if constexpr (Tracer::enabled) tracer_.on_node_pair(a, b, overlap);
+        if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(a, b, overlap);
         if (!overlap) return;
         if (na.is_leaf() && nb.is_leaf()) {
             for (int32_t p = na.begin; p < na.end; ++p)
