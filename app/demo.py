@@ -21,5 +21,6 @@ def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
         print(f"{k:5d} {s['cone_tests']:10d} {s['contour_passed']:7d} {s['contour_failed']:12d} "
               f"{s['elementary_tests']:10d} {s['colliding_pairs']:9d} {ms:8.2f}")
     print(f"wrote {out} in {secs:.1f} s (traced queries + recording).")
-    print(f"open it with:   rerun {out}        (the viewer ships with rerun-sdk in .venv/bin)")
+    print(f"open it with:   .venv/bin/rerun {out}   (the viewer ships with rerun-sdk)")
+    print(f"live view:      .venv/bin/conecull view {DEFAULT_SCENE}   (prints the http://127.0.0.1 address to open)")
     return 0
