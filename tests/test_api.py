@@ -25,6 +25,7 @@ def col(method="nc"):
         (np.vstack([F, [[0, 1, 1]]]), r"faces: row 32 repeats a vertex"),
         (np.array([[0, 1, 2**40]]), r"faces: vertex index .* does not fit"),
         (np.array([["a", "b", "c"]]), r"faces: expected an integer array"),
+        (np.zeros((0, 4), dtype=np.int64), r"faces: expected shape \(m, 3\)"),
     ],
 )
 def test_bad_faces(faces, match):
@@ -57,6 +58,11 @@ def test_face_index_out_of_range_with_n_vertices():
 def test_bad_positions(Vb, match):
     with pytest.raises(ValueError, match=match):
         col().dcd(Vb)
+
+
+def test_trace_must_be_bool():
+    with pytest.raises(ValueError, match=r"trace: expected True or False, got 'no'"):
+        col().dcd(V, trace="no")
 
 
 def test_bad_method_and_mesh():

@@ -77,9 +77,12 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
     for (int32_t e = 0; e < topo.n_edges(); ++e) {
         const double len = norm(load(V, topo.edges[2 * e + 1]) - load(V, topo.edges[2 * e]));
         const int32_t b = topo.edge_face_offsets[e], end = topo.edge_face_offsets[e + 1];
+        // Faces around an edge, linked in a chain: every pair for a manifold edge, and no
+        // quadratic blow-up for a fin edge with thousands of faces (adjacency only guides
+        // clustering; it never affects correctness).
         for (int32_t i = b; i < end; ++i) {
             perimeter[topo.edge_face_ids[i]] += len;
-            for (int32_t j = i + 1; j < end; ++j) cuts.push_back({topo.edge_face_ids[i], topo.edge_face_ids[j], len});
+            if (i + 1 < end) cuts.push_back({topo.edge_face_ids[i], topo.edge_face_ids[i + 1], len});
         }
     }
     tree.left.assign(m, -1);
@@ -106,7 +109,7 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
     };
     std::vector<Candidate> cand;
     std::vector<std::pair<int64_t, double>> keyed;
-    std::vector<uint8_t> matched, seen;
+    std::vector<uint8_t> matched, seen, absorbed;
     std::vector<int32_t> next;
     while (active.size() > 1) {
         // Cut edges between the current clusters; an edge inside a cluster is dropped for good.
@@ -162,11 +165,14 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
         // A cluster left without partner joins its most compact neighbour's new cluster right
         // away; left waiting, stragglers end up joining one giant cluster one by one at the top,
         // which made the tree hundreds of levels deep.
+        // At most two per cluster and level, so a level adds at most three to the depth.
+        absorbed.assign(n_ids, 0);
         for (const Candidate& c : cand) {
             for (const int32_t lone : {c.a, c.b}) {
                 const int32_t other = lone == c.a ? c.b : c.a;
-                if (matched[lone] || !matched[other]) continue;
+                if (matched[lone] || !matched[other] || absorbed[other] >= 2) continue;
                 matched[lone] = 1;
+                ++absorbed[other];
                 merge(cluster(representative[other]), lone, c.shared);
             }
         }
@@ -176,7 +182,11 @@ int32_t cluster_bottom_up(const Topology& topo, const double* V, MergeTree& tree
             if (!seen[now]) next.push_back(now);
             seen[now] = 1;
         }
+        // Every level must shrink the cluster count by a quarter, which bounds the number of
+        // levels by log_{4/3}(m); otherwise the rest is joined top-down by position.
+        const bool stalled = 4 * next.size() > 3 * active.size();
         active.swap(next);
+        if (stalled) break;
     }
     if (active.size() == 1) return active[0];
     std::sort(active.begin(), active.end());

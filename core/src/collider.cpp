@@ -25,7 +25,9 @@ Method parse_method(const std::string& name) {
 const char* method_name(Method m) { return m == Method::kAabb ? "aabb" : "nc"; }
 
 SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size)
-    : topo_(std::move(topo)), method_(method), leaf_size_(leaf_size) {}
+    : topo_(std::move(topo)), method_(method), leaf_size_(leaf_size) {
+    bvh_.leaf_size = leaf_size;  // reported by the debug views even before the first query
+}
 
 void SelfCollider::build(const double* V) {
     bvh_ = build_bvh(*topo_, V, leaf_size_);

@@ -112,7 +112,8 @@ Topology build_topology(const int32_t* faces, int32_t m, int32_t n_vertices) {
                     const int32_t eb = t.edge_face_offsets[eid];
                     if (t.edge_face_offsets[eid + 1] - eb != 2) continue;
                     const int32_t g = t.edge_face_ids[eb] == f ? t.edge_face_ids[eb + 1] : t.edge_face_ids[eb];
-                    const int32_t j = static_cast<int32_t>(std::find(local.begin(), local.end(), g) - local.begin());
+                    // vertex_face_ids lists each vertex's faces in increasing order
+                    const int32_t j = static_cast<int32_t>(std::lower_bound(local.begin(), local.end(), g) - local.begin());
                     if (luf.unite(i, j)) --classes;
                 }
             }

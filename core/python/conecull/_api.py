@@ -19,7 +19,8 @@ _COORD_MAX = 2.0**128
 
 def _as_faces(faces) -> np.ndarray:
     a = np.asarray(faces)
-    if a.size == 0 and a.dtype.kind in "iufb":  # an empty mesh, whatever the literal's dtype
+    # An empty mesh: [] or an empty (0, 3) array (a float literal like np.zeros((0, 3)) too).
+    if a.size == 0 and a.dtype.kind in "iuf" and (a.shape == (0,) or a.shape == (0, 3)):
         return np.zeros((0, 3), dtype=np.int32)
     if a.dtype.kind not in "iu":
         raise ValueError(f"faces: expected an integer array, got dtype {a.dtype}")
@@ -173,6 +174,8 @@ class SelfCollider:
 
     def dcd(self, V, trace: bool = False) -> DcdResult:
         """Discrete self-collision query at positions V (n, 3); trace=True also records its events."""
+        if not isinstance(trace, (bool, np.bool_)):
+            raise ValueError(f"trace: expected True or False, got {trace!r}")
         a = _as_positions(V, self.mesh.n_vertices)
         pairs, stats, raw = self._core.dcd(a, bool(trace))
         return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)

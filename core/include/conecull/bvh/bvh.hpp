@@ -1,5 +1,6 @@
 // AABB BVH over the triangles (Sec. 5.1: "We use AABBs as the underlying bounding volume"),
-// built top-down once from the first pose and refit bottom-up for every query.
+// built once from the first pose by bottom-up clustering along the mesh (the paper builds it
+// top-down; see build_bvh) and refit bottom-up for every query.
 #pragma once
 
 #include <cstdint>

@@ -7,7 +7,12 @@
 // oriented like the triangles (the boundary of the chain sum of its triangles). Soundness of
 // the culling rests on it: with every projected triangle positively oriented, the winding
 // number of this cycle around a point counts the triangles covering it, so a simple
-// (star-shaped) projected cycle means every point is covered at most once.
+// (star-shaped) projected cycle means every point is covered at most once: interiors are
+// disjoint. Touching is excluded too: near a projected vertex only that vertex's fan covers
+// the plane (so two distinct vertices never project to one point), near a projected edge only
+// that edge's two triangles, and the projection is one-to-one on each triangle; so two
+// triangles of the patch meet only in the vertices or edge they share. No disk topology is
+// assumed.
 #pragma once
 
 #include <cstdint>

@@ -22,6 +22,7 @@ struct ContourVerdict {
     ContourReason reason = ContourReason::kPassed;
     int32_t edge = -1;       // contour edge (v_edge, v_edge+1) where it failed
     int32_t crossings = 0;   // ray crossings counted so far
+    int32_t edges_visited = 0;  // contour edges examined (over all ray attempts)
     Vec3 kernel;             // o
     Vec3 ray;                // r
     bool passed() const { return reason == ContourReason::kPassed; }
@@ -73,6 +74,7 @@ inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int
         const Vec3 vn = load(V, loop[i + 1 == n ? 0 : i + 1]);
         const int s = side_sign(o, vi, vn, l);  // Alg. 1 lines 11 and 18: kernel test
         if (i == 0) s0 = s;
+        out.edges_visited = i + 1;
         if (s == 0) {
             out.reason = ContourReason::kKernelSignZero;
             out.edge = i;
@@ -108,8 +110,11 @@ inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int
 
 inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
     ContourVerdict v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, 0));
-    for (int attempt = 1; attempt < kRayDirections && v.reason == ContourReason::kRayThroughVertex; ++attempt)
+    for (int attempt = 1; attempt < kRayDirections && v.reason == ContourReason::kRayThroughVertex; ++attempt) {
+        const int32_t before = v.edges_visited;
         v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, attempt));
+        v.edges_visited += before;
+    }
     return v;
 }
 

@@ -64,7 +64,7 @@ class SelfCollideTraversal {
         }
         ++stats_.contour_tests;
         const ContourVerdict v = unprojected_contour_test(contours_.loop(i), contours_.loop_size(i), V_, cone.axis);
-        stats_.contour_edges += v.passed() ? contours_.loop_size(i) : v.edge + 1;
+        stats_.contour_edges += v.edges_visited;
         ++stats_.contour_reasons[static_cast<int>(v.reason)];
         if constexpr (kTraceHooks<Tracer>) tracer_.on_contour_test(i, v);
         if (v.passed()) {
