@@ -107,3 +107,79 @@ def contour_test(loop_pts, l, o=None, r=None):
 def triangle_normal(a, b, c):
     a, b, c = map(fr3, (a, b, c))
     return cross(sub(b, a), sub(c, a))
+
+
+# ---- CCD (Sec. 3.6, Alg. 3) -----------------------------------------------------------------
+
+def lerp(p0, p1, t):
+    """Exact point of a linear trajectory at rational t."""
+    p0, p1 = fr3(p0), fr3(p1)
+    return tuple(p0[i] + (p1[i] - p0[i]) * t for i in range(3))
+
+
+def cside1_value(o, b0, c0, b1, c1, l, t):
+    """CSide1(o, b(t), c(t), l) = ((o - c(t)) x (b(t) - c(t))) . l, exactly, by its definition."""
+    o, l = fr3(o), fr3(l)
+    b, c = lerp(b0, b1, t), lerp(c0, c1, t)
+    return dot(cross(sub(o, c), sub(b, c)), l)
+
+
+def cside1_coefficients(o, b0, c0, b1, c1, l):
+    """Our Bernstein coefficients (k0, k1, k2): k0 = (B0 x C0).l, k1 = (B0 x C1 + B1 x C0).l / 2,
+    k2 = (B1 x C1).l with B_t = b_t - o, C_t = c_t - o."""
+    o, l = fr3(o), fr3(l)
+    B0, C0, B1, C1 = (sub(fr3(p), o) for p in (b0, c0, b1, c1))
+    k0 = dot(cross(B0, C0), l)
+    k1 = (dot(cross(B0, C1), l) + dot(cross(B1, C0), l)) / 2
+    k2 = dot(cross(B1, C1), l)
+    return k0, k1, k2
+
+
+def cside1_printed_k2(o, b0, c0, b1, c1, l):
+    """k2 exactly as printed in Sec. 3.6 (with v_c x (b0 - a))."""
+    a, l = fr3(o), fr3(l)
+    B0, C0 = sub(fr3(b0), a), sub(fr3(c0), a)
+    vb, vc = sub(fr3(b1), fr3(b0)), sub(fr3(c1), fr3(c0))
+    add = lambda u, w: tuple(u[i] + w[i] for i in range(3))  # noqa: E731
+    return dot(cross(B0, C0), l) + dot(add(cross(vb, C0), cross(vc, B0)), l) + dot(cross(vb, vc), l)
+
+
+def csidesign1(o, b0, c0, b1, c1, l) -> int:
+    k = cside1_coefficients(o, b0, c0, b1, c1, l)
+    s = sgn(k[0])
+    return s if s != 0 and all(sgn(x) == s for x in k) else 0
+
+
+def csidesign2(v0, v1, o, r, l) -> int:
+    s0, s1 = ray_side_sign_literal(v0, o, r, l), ray_side_sign_literal(v1, o, r, l)
+    return s0 if s0 != 0 and s0 == s1 else 0
+
+
+def contour_test_ccd(pts0, pts1, l, r, o=None):
+    """Alg. 3 in exact arithmetic (with our k2). o defaults to the core's float mean at t = 0."""
+    n = len(pts0)
+    if o is None:
+        s = [0.0, 0.0, 0.0]
+        for p in pts0:
+            s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
+        inv = 1.0 / n
+        o = (inv * s[0], inv * s[1], inv * s[2])
+    s0, crossings = None, 0
+    for i in range(n):
+        j = (i + 1) % n
+        s = csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l)
+        if i == 0:
+            s0 = s
+        if s == 0:
+            return False, 1, i
+        if s != s0:
+            return False, 2, i
+        s1 = csidesign2(pts0[i], pts1[i], o, r, l)
+        s2 = csidesign2(pts0[j], pts1[j], o, r, l)
+        if s1 == 0 or s2 == 0:
+            return False, 3, i if s1 == 0 else j
+        if s2 == s0 and s1 != s2:
+            crossings += 1
+            if crossings > 1:
+                return False, 4, i
+    return (True, 0, -1) if crossings == 1 else (False, 5, -1)

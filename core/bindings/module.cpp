@@ -12,6 +12,7 @@ void bind_cone(py::module_& m);
 void bind_contour(py::module_& m);
 void bind_elementary(py::module_& m);
 void bind_collider(py::module_& m);
+void bind_ccd(py::module_& m);
 }  // namespace conecull::bind
 
 #ifndef CONECULL_MODULE_NAME
@@ -31,5 +32,7 @@ PYBIND11_MODULE(CONECULL_MODULE_NAME, m) {
     bind_contour(contour);
     auto elementary = m.def_submodule("elementary", "Exact elementary tests");
     bind_elementary(elementary);
+    auto ccd = m.def_submodule("ccd", "Continuous collision detection: cones and Alg. 3");
+    bind_ccd(ccd);
     bind_collider(m);
 }

@@ -50,3 +50,40 @@ int ray_side_sign_exact(const Vec3& v, const Vec3& o, const Vec3& r, const Vec3&
 }
 
 }  // namespace conecull::detail
+
+// ---- sums of determinants (predicates/det_sum.hpp) -------------------------------------
+#include "conecull/predicates/det_sum.hpp"
+
+namespace conecull::detail {
+
+namespace {
+
+using namespace conecull::exact;
+
+Expansion<2> diff_k(const DetRow& r, int k) { return difference(r.head[k], r.tail[k]); }
+
+// det of one Det3 as an expansion (capacity 192, see det3_sign above).
+Expansion<192> det_expansion(const Det3& d) {
+    const Expansion<2> p[3] = {diff_k(d.r0, 0), diff_k(d.r0, 1), diff_k(d.r0, 2)};
+    const Expansion<2> q[3] = {diff_k(d.r1, 0), diff_k(d.r1, 1), diff_k(d.r1, 2)};
+    const Expansion<2> r[3] = {diff_k(d.r2, 0), diff_k(d.r2, 1), diff_k(d.r2, 2)};
+    const auto c0 = sub(mul(q[1], r[2]), mul(q[2], r[1]));
+    const auto c1 = sub(mul(q[2], r[0]), mul(q[0], r[2]));
+    const auto c2 = sub(mul(q[0], r[1]), mul(q[1], r[0]));
+    return add(add(mul(p[0], c0), mul(p[1], c1)), mul(p[2], c2));
+}
+
+}  // namespace
+
+int det_sum_sign_exact(const Det3* dets, int m) {
+    // At most 3 determinants in this library; accumulate pairwise into a fixed capacity.
+    Expansion<576> acc;
+    for (int k = 0; k < m && k < 3; ++k) {
+        const auto s = add(acc, det_expansion(dets[k]));
+        for (int i = 0; i < s.n; ++i) acc.c[i] = s.c[i];
+        acc.n = s.n;
+    }
+    return sign(acc);
+}
+
+}  // namespace conecull::detail

@@ -1,0 +1,80 @@
+// CCD bindings (core/include/conecull/ccd/): cones and Alg. 3, vectorised over rows (tests).
+#include <optional>
+
+#include <pybind11/stl.h>
+
+#include "common.hpp"
+#include "conecull/ccd/ccd_cone.hpp"
+#include "conecull/ccd/contour_test_ccd.hpp"
+
+namespace conecull::bind {
+
+void bind_ccd(py::module_& m) {
+    m.def(
+        "triangle_cone_ccd",
+        [](const F64Array& a0, const F64Array& b0, const F64Array& c0, const F64Array& a1, const F64Array& b1,
+           const F64Array& c1) {
+            require_shape(a0, "a0", -1, 3);
+            const py::ssize_t k = a0.shape(0);
+            for (const auto& [arr, name] : {std::pair<const F64Array*, const char*>{&b0, "b0"}, {&c0, "c0"}, {&a1, "a1"}, {&b1, "b1"}, {&c1, "c1"}})
+                require_shape(*arr, name, k, 3);
+            py::array_t<double> axis({k, py::ssize_t(3)}), cb(k), sb(k);
+            for (py::ssize_t i = 0; i < k; ++i) {
+                const NormalCone c = triangle_cone_ccd(row(a0, i), row(b0, i), row(c0, i), row(a1, i), row(b1, i), row(c1, i));
+                for (int j = 0; j < 3; ++j) axis.mutable_data()[3 * i + j] = c.axis[j];
+                cb.mutable_data()[i] = c.cos_bound;
+                sb.mutable_data()[i] = c.sin_bound;
+            }
+            return py::make_tuple(axis, cb, sb);
+        },
+        py::arg("a0"), py::arg("b0"), py::arg("c0"), py::arg("a1"), py::arg("b1"), py::arg("c1"),
+        "Cones holding n(t) for t in [0, 1] of moving triangles: (axis, cos_bound, sin_bound).");
+    m.def(
+        "csidesign1",
+        [](const F64Array& o, const F64Array& b0, const F64Array& c0, const F64Array& b1, const F64Array& c1,
+           const F64Array& l) {
+            require_shape(o, "o", -1, 3);
+            const py::ssize_t k = o.shape(0);
+            for (const auto& [arr, name] : {std::pair<const F64Array*, const char*>{&b0, "b0"}, {&c0, "c0"}, {&b1, "b1"}, {&c1, "c1"}, {&l, "l"}})
+                require_shape(*arr, name, k, 3);
+            py::array_t<int8_t> out(k);
+            for (py::ssize_t i = 0; i < k; ++i)
+                out.mutable_data()[i] =
+                    static_cast<int8_t>(csidesign1(row(o, i), row(b0, i), row(c0, i), row(b1, i), row(c1, i), row(l, i)));
+            return out;
+        },
+        py::arg("o"), py::arg("b0"), py::arg("c0"), py::arg("b1"), py::arg("c1"), py::arg("l"),
+        "CSideSign1 per row: s if the three Bernstein coefficients all have the strict sign s, else 0.");
+    m.def(
+        "contour_test_ccd",
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r) {
+            require_shape(V0, "V0", -1, 3);
+            require_shape(V1, "V1", V0.shape(0), 3);
+            if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
+            if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
+            for (py::ssize_t i = 0; i < loop.shape(0); ++i)
+                if (loop.data()[i] < 0 || loop.data()[i] >= V0.shape(0)) throw py::value_error("loop: index out of range");
+            const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
+            const int32_t n = static_cast<int32_t>(loop.shape(0));
+            ContourVerdict v;
+            if (r) {
+                if (r->ndim() != 1 || r->shape(0) != 3) throw py::value_error("r: expected shape (3,)");
+                v = unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis,
+                                                          Vec3{r->data()[0], r->data()[1], r->data()[2]});
+            } else {
+                v = unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis);
+            }
+            py::dict d;
+            d["passed"] = v.passed();
+            d["reason"] = static_cast<int>(v.reason);
+            d["edge"] = v.edge;
+            d["crossings"] = v.crossings;
+            d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
+            d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
+            return d;
+        },
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(),
+        "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; ray r if given.");
+}
+
+}  // namespace conecull::bind
