@@ -6,10 +6,63 @@
 #include "common.hpp"
 #include "conecull/ccd/ccd_cone.hpp"
 #include "conecull/ccd/contour_test_ccd.hpp"
+#include "conecull/ccd/elementary_ccd.hpp"
 
 namespace conecull::bind {
 
+namespace {
+
+Arithmetic parse_arithmetic(const std::string& s) {
+    if (s == "float") return Arithmetic::kFloat;
+    if (s == "conservative") return Arithmetic::kConservative;
+    if (s == "exact") return Arithmetic::kExact;
+    throw py::value_error("arithmetic: expected 'float', 'conservative' or 'exact', got '" + s + "'");
+}
+
+template <class Fn>
+py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], Fn fn) {
+    require_shape(x[0], names[0], -1, 3);
+    const py::ssize_t k = x[0].shape(0);
+    for (int i = 1; i < 8; ++i) require_shape(x[i], names[i], k, 3);
+    py::array_t<bool> out(k);
+    {
+        py::gil_scoped_release release;
+        for (py::ssize_t i = 0; i < k; ++i)
+            out.mutable_data()[i] = fn(row(x[0], i), row(x[1], i), row(x[2], i), row(x[3], i), row(x[4], i),
+                                       row(x[5], i), row(x[6], i), row(x[7], i));
+    }
+    return out;
+}
+
+}  // namespace
+
 void bind_ccd(py::module_& m) {
+    m.def(
+        "vertex_face_ccd_rows",
+        [](const F64Array& v_t0, const F64Array& f0_t0, const F64Array& f1_t0, const F64Array& f2_t0,
+           const F64Array& v_t1, const F64Array& f0_t1, const F64Array& f1_t1, const F64Array& f2_t1,
+           const std::string& arithmetic) {
+            const Arithmetic mode = parse_arithmetic(arithmetic);
+            const F64Array x[8] = {v_t0, f0_t0, f1_t0, f2_t0, v_t1, f0_t1, f1_t1, f2_t1};
+            static const char* const names[8] = {"v_t0", "f0_t0", "f1_t0", "f2_t0", "v_t1", "f0_t1", "f1_t1", "f2_t1"};
+            return rows8(x, names, [mode](auto... p) { return vertex_face_ccd(p..., mode); });
+        },
+        py::arg("v_t0"), py::arg("f0_t0"), py::arg("f1_t0"), py::arg("f2_t0"), py::arg("v_t1"), py::arg("f0_t1"),
+        py::arg("f1_t1"), py::arg("f2_t1"), py::arg("arithmetic"),
+        "Vertex-face CCD per row ((k, 3) arrays): contact at some t in [0, 1].");
+    m.def(
+        "edge_edge_ccd_rows",
+        [](const F64Array& ea0_t0, const F64Array& ea1_t0, const F64Array& eb0_t0, const F64Array& eb1_t0,
+           const F64Array& ea0_t1, const F64Array& ea1_t1, const F64Array& eb0_t1, const F64Array& eb1_t1,
+           const std::string& arithmetic) {
+            const Arithmetic mode = parse_arithmetic(arithmetic);
+            const F64Array x[8] = {ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1};
+            static const char* const names[8] = {"ea0_t0", "ea1_t0", "eb0_t0", "eb1_t0", "ea0_t1", "ea1_t1", "eb0_t1", "eb1_t1"};
+            return rows8(x, names, [mode](auto... p) { return edge_edge_ccd(p..., mode); });
+        },
+        py::arg("ea0_t0"), py::arg("ea1_t0"), py::arg("eb0_t0"), py::arg("eb1_t0"), py::arg("ea0_t1"), py::arg("ea1_t1"),
+        py::arg("eb0_t1"), py::arg("eb1_t1"), py::arg("arithmetic"),
+        "Edge-edge CCD per row ((k, 3) arrays): contact at some t in [0, 1].");
     m.def(
         "triangle_cone_ccd",
         [](const F64Array& a0, const F64Array& b0, const F64Array& c0, const F64Array& a1, const F64Array& b1,

@@ -1,0 +1,36 @@
+// Elementary CCD tests (Sec. 5.1: "exact elementary tests for CCD"): vertex-face and
+// edge-edge, closed primitives, every vertex moving linearly over t in [0, 1]; contact at any
+// t, t = 0 and t = 1 included.
+//
+// Arithmetic modes:
+//   kFloat         plain double root finding on the coplanarity cubic with the usual epsilons
+//                  (fast; may miss or invent contacts);
+//   kConservative  inclusion-based: F(t, u, v) = 0 is searched over the parameter box by
+//                  subdivision; each component of F is multilinear in (t, u, v), so its range on
+//                  a box lies between its corner values, which are evaluated with a rigorous
+//                  rounding-error bound. A box is dropped only when some component provably
+//                  keeps one sign on it, so no contact is ever missed; boxes that stay
+//                  undecided down to the tolerance (or past the box budget) report contact.
+//   kExact         (not yet implemented).
+#pragma once
+
+#include "conecull/vec3.hpp"
+
+namespace conecull {
+
+enum class Arithmetic { kFloat, kConservative, kExact };
+
+struct CcdOptions {
+    int max_depth = 24;          // subdivisions per parameter: boxes below 2^-24 stay "contact"
+    int max_boxes = 20000;       // budget per query; exceeded -> "contact" (conservative)
+};
+
+// Vertex p moving p0 -> p1 against the face (a, b, c) moving (a0, b0, c0) -> (a1, b1, c1).
+bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1, const Vec3& a1,
+                     const Vec3& b1, const Vec3& c1, Arithmetic mode, const CcdOptions& opt = {});
+
+// Edge (a, b) against edge (c, d), each end moving linearly.
+bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1, const Vec3& b1,
+                   const Vec3& c1, const Vec3& d1, Arithmetic mode, const CcdOptions& opt = {});
+
+}  // namespace conecull

@@ -1,0 +1,229 @@
+#include "conecull/ccd/elementary_ccd.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "conecull/predicates/orient.hpp"
+
+namespace conecull {
+
+namespace {
+
+// ---- conservative: inclusion by subdivision -------------------------------------------------
+
+// F(t, u, v) = P(t) + u U(t) + v W(t) with P, U, W linear in t; per component multilinear.
+// VF: P = p - a, U = -(b - a), W = -(c - a).   EE: P = a - c, U = b - a, W = -(d - c).
+struct MovingTerms {
+    Vec3 P0, P1, U0, U1, W0, W1;  // values at t = 0 and t = 1 (rounded differences)
+    double scale;                 // bound on |everything| for the rounding error term
+};
+
+struct Box {
+    double t0, t1, u0, u1, v0, v1;
+    int depth;
+};
+
+// Value of F at a corner and a bound on its rounding error. Entries of MovingTerms are rounded
+// differences of inputs (relative error eps, accounted for in `scale` with factor 2); the
+// evaluation is a handful of products and sums of terms bounded by `scale`.
+inline Vec3 corner_value(const MovingTerms& m, double t, double u, double v) {
+    const Vec3 P = m.P0 + t * (m.P1 - m.P0);
+    const Vec3 U = m.U0 + t * (m.U1 - m.U0);
+    const Vec3 W = m.W0 + t * (m.W1 - m.W0);
+    return P + u * U + v * W;
+}
+
+bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptions& opt) {
+    // |P|, |U|, |W| <= scale at t = 0, 1, so every intermediate is below 9 scale (|t|, |u|,
+    // |v| <= 1). Each of the ~10 roundings on the longest chain adds at most eps * 9 scale, and
+    // the rounded input differences (relative error eps) carry at most 9 eps scale through the
+    // multilinear form: < 100 eps scale in all; 256 eps scale is the bound used.
+    const double err = 256.0 * kEps * m.scale;
+    std::vector<Box> stack;
+    stack.push_back({0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0});
+    int boxes = 0;
+    while (!stack.empty()) {
+        const Box b = stack.back();
+        stack.pop_back();
+        if (++boxes > opt.max_boxes) return true;
+        if (triangle_domain && b.u0 + b.v0 > 1.0) continue;  // dyadic sums: exact
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int c = 0; c < 8; ++c) {
+            const Vec3 f = corner_value(m, c & 1 ? b.t1 : b.t0, c & 2 ? b.u1 : b.u0, c & 4 ? b.v1 : b.v0);
+            for (int k = 0; k < 3; ++k) {
+                lo[k] = std::min(lo[k], f[k]);
+                hi[k] = std::max(hi[k], f[k]);
+            }
+        }
+        bool excluded = false;
+        for (int k = 0; k < 3; ++k) excluded |= lo[k] - err > 0.0 || hi[k] + err < 0.0;
+        if (excluded) continue;
+        if (b.depth >= 3 * opt.max_depth) return true;  // undecided at the tolerance: contact
+        // Split the parameter that was split least (round robin keeps boxes cubical).
+        const int axis = b.depth % 3;
+        Box l = b, r = b;
+        l.depth = r.depth = b.depth + 1;
+        if (axis == 0) l.t1 = r.t0 = 0.5 * (b.t0 + b.t1);
+        if (axis == 1) l.u1 = r.u0 = 0.5 * (b.u0 + b.u1);
+        if (axis == 2) l.v1 = r.v0 = 0.5 * (b.v0 + b.v1);
+        stack.push_back(r);
+        stack.push_back(l);  // earlier t first
+    }
+    return false;
+}
+
+double max_abs(std::initializer_list<Vec3> vs) {
+    double s = 0.0;
+    for (const Vec3& v : vs) s = std::max({s, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+    return s;
+}
+
+// ---- float: roots of the coplanarity cubic, then a proximity check with epsilons ------------
+
+// Coefficients (c0 + c1 t + c2 t^2 + c3 t^3) of det[x(t), y(t), z(t)] with x(t) = x0 + t dx...
+std::array<double, 4> cubic_of(const Vec3& x0, const Vec3& dx, const Vec3& y0, const Vec3& dy, const Vec3& z0,
+                               const Vec3& dz) {
+    auto det = [](const Vec3& a, const Vec3& b, const Vec3& c) { return dot(a, cross(b, c)); };
+    return {det(x0, y0, z0), det(dx, y0, z0) + det(x0, dy, z0) + det(x0, y0, dz),
+            det(dx, dy, z0) + det(dx, y0, dz) + det(x0, dy, dz), det(dx, dy, dz)};
+}
+
+double eval_cubic(const std::array<double, 4>& c, double t) { return ((c[3] * t + c[2]) * t + c[1]) * t + c[0]; }
+
+// Candidate times: t = 0, 1, and the roots of the cubic in (0, 1), bracketed between the
+// roots of its derivative and refined by bisection.
+std::vector<double> candidate_times(const std::array<double, 4>& c) {
+    std::vector<double> knots = {0.0, 1.0};
+    const double a = 3 * c[3], b = 2 * c[2], cc = c[1];
+    if (a != 0.0) {
+        const double disc = b * b - 4 * a * cc;
+        if (disc >= 0) {
+            const double s = std::sqrt(disc);
+            for (double r : {(-b - s) / (2 * a), (-b + s) / (2 * a)})
+                if (r > 0 && r < 1) knots.push_back(r);
+        }
+    } else if (b != 0.0) {
+        const double r = -cc / b;
+        if (r > 0 && r < 1) knots.push_back(r);
+    }
+    std::sort(knots.begin(), knots.end());
+    std::vector<double> out = {0.0, 1.0};
+    for (size_t i = 0; i + 1 < knots.size(); ++i) {
+        double lo = knots[i], hi = knots[i + 1];
+        double flo = eval_cubic(c, lo), fhi = eval_cubic(c, hi);
+        if (flo == 0.0) out.push_back(lo);
+        if ((flo < 0) == (fhi < 0)) continue;
+        for (int it = 0; it < 60; ++it) {
+            const double mid = 0.5 * (lo + hi);
+            const double fm = eval_cubic(c, mid);
+            if ((fm < 0) == (flo < 0)) {
+                lo = mid;
+                flo = fm;
+            } else {
+                hi = mid;
+            }
+        }
+        out.push_back(0.5 * (lo + hi));
+    }
+    return out;
+}
+
+Vec3 lerp(const Vec3& x0, const Vec3& x1, double t) { return x0 + t * (x1 - x0); }
+
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Ericson's closest point on a triangle.
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return norm(ap);
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return norm(bp);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return norm(p - (a + (d1 / (d1 - d3)) * ab));
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return norm(cp);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return norm(p - (a + (d2 / (d2 - d6)) * ac));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return norm(p - (b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b)));
+    const double denom = 1.0 / (va + vb + vc);
+    return norm(p - (a + (vb * denom) * ab + (vc * denom) * ac));
+}
+
+double segment_segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
+    const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+    const double a = dot(d1, d1), e = dot(d2, d2), f = dot(d2, r);
+    double s = 0, t = 0;
+    if (a <= 1e-300 && e <= 1e-300) return norm(r);
+    if (a <= 1e-300) {
+        t = std::clamp(f / e, 0.0, 1.0);
+    } else {
+        const double c = dot(d1, r);
+        if (e <= 1e-300) {
+            s = std::clamp(-c / a, 0.0, 1.0);
+        } else {
+            const double b = dot(d1, d2), denom = a * e - b * b;
+            s = denom != 0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+            t = (b * s + f) / e;
+            if (t < 0) {
+                t = 0;
+                s = std::clamp(-c / a, 0.0, 1.0);
+            } else if (t > 1) {
+                t = 1;
+                s = std::clamp((b - c) / a, 0.0, 1.0);
+            }
+        }
+    }
+    return norm((p1 + s * d1) - (p2 + t * d2));
+}
+
+constexpr double kFloatTolerance = 1e-9;  // relative to the size of the configuration
+
+}  // namespace
+
+bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1, const Vec3& a1,
+                     const Vec3& b1, const Vec3& c1, Arithmetic mode, const CcdOptions& opt) {
+    if (mode == Arithmetic::kConservative) {
+        MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
+        m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
+        return inclusion_search(m, true, opt);
+    }
+    if (mode == Arithmetic::kFloat) {
+        const Vec3 ba0 = b0 - a0, ca0 = c0 - a0, pa0 = p0 - a0;
+        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, ca0, (c1 - a1) - ca0, pa0, (p1 - a1) - pa0);
+        const double size = std::max(1e-300, max_abs({b0 - a0, c0 - a0, p0 - a0, b1 - a1, c1 - a1, p1 - a1}));
+        for (double t : candidate_times(cubic))
+            if (point_triangle_distance(lerp(p0, p1, t), lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t)) <=
+                kFloatTolerance * size)
+                return true;
+        return false;
+    }
+    throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+}
+
+bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1, const Vec3& b1,
+                   const Vec3& c1, const Vec3& d1, Arithmetic mode, const CcdOptions& opt) {
+    if (mode == Arithmetic::kConservative) {
+        MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
+        m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
+        return inclusion_search(m, false, opt);
+    }
+    if (mode == Arithmetic::kFloat) {
+        const Vec3 ba0 = b0 - a0, dc0 = d0 - c0, ca0 = c0 - a0;
+        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, dc0, (d1 - c1) - dc0, ca0, (c1 - a1) - ca0);
+        const double size = std::max(1e-300, max_abs({b0 - a0, d0 - c0, c0 - a0, b1 - a1, d1 - c1, c1 - a1}));
+        for (double t : candidate_times(cubic))
+            if (segment_segment_distance(lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), lerp(d0, d1, t)) <=
+                kFloatTolerance * size)
+                return true;
+        return false;
+    }
+    throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+}
+
+}  // namespace conecull
