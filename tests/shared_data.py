@@ -47,3 +47,52 @@ def load_ccd_queries(path: Path):
     truth = np.array([int(r[6]) for r in rows[::8]], dtype=bool)
     kind = "vf" if path.parent.name == "vertex-face" else "ee"
     return kind, pts.reshape(-1, 8, 3), truth
+
+
+def scalable_ccd_steps():
+    root = require(DATA / "scalable-ccd")
+    steps = []
+    for scene in sorted(p for p in root.iterdir() if p.is_dir()):
+        for vf in sorted((scene / "boxes").glob("*vf.json")):
+            steps.append((scene.name, vf.name[: -len("vf.json")]))
+    return steps
+
+
+def load_scalable_step(scene: str, step: str):
+    """faces (m, 3), V0, V1 (n, 3), and the ground-truth sets: vf {(vertex, face)}, ee {(edge a, edge b)}
+    with edge ids of conecull.Mesh(faces).edges (the data numbers edges by (larger, smaller) vertex)."""
+    import json
+
+    import trimesh
+
+    d = require(DATA / "scalable-ccd" / scene)
+    frames = sorted((d / "frames").glob("*.ply"), key=lambda p: int("".join(c for c in p.stem.split("_")[-1] if c.isdigit())))
+    k = [i for i, p in enumerate(frames) if p.stem.split("_")[-1] == step]
+    m0 = trimesh.load(frames[k[0]], process=False)
+    m1 = trimesh.load(frames[k[0] + 1], process=False)
+    F = np.asarray(m0.faces, np.int64)
+    assert np.array_equal(F, np.asarray(m1.faces)), "faces differ between the two frames"
+    V0, V1 = np.asarray(m0.vertices, np.float64), np.asarray(m1.vertices, np.float64)
+    n = len(V0)
+    e = np.sort(np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]]), axis=1)
+    e = np.unique(e, axis=0)                   # ours: sorted by (i, j), i < j
+    theirs = e[np.lexsort((e[:, 0], e[:, 1]))]  # theirs: sorted by (larger, smaller)
+    ours_id = {tuple(r): i for i, r in enumerate(e.tolist())}
+    their_to_ours = np.array([ours_id[tuple(r)] for r in theirs.tolist()])
+    nE = len(e)
+
+    def truth(kind):
+        boxes = json.load(open(d / "boxes" / f"{step}{kind}.json"))
+        flags = json.load(open(d / "mma_bool" / f"{step}{kind}_mma_bool.json"))
+        out = set()
+        for (i, j), f in zip(boxes, flags):
+            if not f:
+                continue
+            if kind == "vf":
+                out.add((int(i), int(j) - n - nE))
+            else:
+                a, b = their_to_ours[i - n], their_to_ours[j - n]
+                out.add((min(a, b), max(a, b)))
+        return out
+
+    return F, V0, V1, truth("vf"), truth("ee")

@@ -71,6 +71,23 @@ py::dict trace_dict(const RecordingTracer& t) {
     return d;
 }
 
+py::array_t<int64_t> pair_rows(const std::vector<std::pair<int32_t, int32_t>>& v) {
+    py::array_t<int64_t> a({static_cast<py::ssize_t>(v.size()), py::ssize_t(2)});
+    int64_t* p = a.mutable_data();
+    for (size_t i = 0; i < v.size(); ++i) {
+        p[2 * i] = v[i].first;
+        p[2 * i + 1] = v[i].second;
+    }
+    return a;
+}
+
+Arithmetic parse_arithmetic(const std::string& s) {
+    if (s == "float") return Arithmetic::kFloat;
+    if (s == "conservative") return Arithmetic::kConservative;
+    if (s == "exact") return Arithmetic::kExact;
+    throw py::value_error("arithmetic: expected 'float', 'conservative' or 'exact', got '" + s + "'");
+}
+
 }  // namespace
 
 void bind_collider(py::module_& m) {
@@ -103,6 +120,36 @@ void bind_collider(py::module_& m) {
             },
             py::arg("V"), py::arg("trace") = false,
             "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).")
+        .def(
+            "ccd",
+            [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic) {
+                const int32_t n = self.collider.topology().n_vertices;
+                require_shape(V0, "V0", n, 3);
+                require_shape(V1, "V1", n, 3);
+                const Arithmetic mode = parse_arithmetic(arithmetic);
+                if (mode == Arithmetic::kExact)
+                    throw py::value_error("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+                CcdResult res;
+                {
+                    py::gil_scoped_release release;
+                    std::lock_guard<std::mutex> lock(self.mutex);
+                    res = self.collider.ccd(V0.data(), V1.data(), mode);
+                }
+                py::dict st = stats_dict(res.stats, self.collider.method());
+                const CcdStats& c = res.stats;
+                st["vf_candidates"] = c.vf_candidates;
+                st["ee_candidates"] = c.ee_candidates;
+                st["npf_culled"] = c.npf_culled;
+                st["vf_tests"] = c.vf_tests;
+                st["ee_tests"] = c.ee_tests;
+                st["vf_contacts"] = c.vf_contacts;
+                st["ee_contacts"] = c.ee_contacts;
+                st["seconds_pairs"] = c.seconds_pairs;
+                st["arithmetic"] = arithmetic;
+                return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st);
+            },
+            py::arg("V0"), py::arg("V1"), py::arg("arithmetic"),
+            "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })

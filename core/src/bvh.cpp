@@ -1,5 +1,7 @@
 #include "conecull/bvh/bvh.hpp"
 
+#include "conecull/ccd/ccd_cone.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -265,6 +267,41 @@ void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vec
             for (int32_t k = n.begin; k < n.end; ++k) {
                 const int32_t* t = &topo.faces[3 * static_cast<size_t>(bvh.order[k])];
                 const NormalCone tc = triangle_cone(load(V, t[0]), load(V, t[1]), load(V, t[2]));
+                c = k == n.begin ? tc : merge(c, tc);
+            }
+            cones[i] = c;
+        } else {
+            cones[i] = merge(cones[Bvh::left(i)], cones[n.right]);
+        }
+    }
+}
+
+void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1) {
+    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
+        BvhNode& n = bvh.nodes[i];
+        if (n.is_leaf()) {
+            n.box = triangle_box(topo, V0, bvh.order[n.begin]);
+            for (int32_t k = n.begin; k < n.end; ++k) {
+                n.box = unite(n.box, triangle_box(topo, V0, bvh.order[k]));
+                n.box = unite(n.box, triangle_box(topo, V1, bvh.order[k]));
+            }
+        } else {
+            n.box = unite(bvh.nodes[Bvh::left(i)].box, bvh.nodes[n.right].box);
+        }
+    }
+}
+
+void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
+                     std::vector<NormalCone>& cones) {
+    cones.resize(bvh.nodes.size());
+    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
+        const BvhNode& n = bvh.nodes[i];
+        if (n.is_leaf()) {
+            NormalCone c;
+            for (int32_t k = n.begin; k < n.end; ++k) {
+                const int32_t* t = &topo.faces[3 * static_cast<size_t>(bvh.order[k])];
+                const NormalCone tc = triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]),
+                                                        load(V1, t[1]), load(V1, t[2]));
                 c = k == n.begin ? tc : merge(c, tc);
             }
             cones[i] = c;

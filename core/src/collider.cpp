@@ -41,9 +41,9 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     auto t0 = Clock::now();
     candidates_.clear();
     if (method_ == Method::kNc) {
-        SelfCollideTraversal<true, Tracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
+        SelfCollideTraversal<true, Tracer>(bvh_, contours_, cones_, Discrete{V}, tracer, st, candidates_).run();
     } else {
-        SelfCollideTraversal<false, Tracer>(bvh_, contours_, cones_, V, tracer, st, candidates_).run();
+        SelfCollideTraversal<false, Tracer>(bvh_, contours_, cones_, Discrete{V}, tracer, st, candidates_).run();
     }
     st.seconds_traversal = seconds_since(t0);
 
@@ -82,6 +82,124 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
         NullTracer null;
         traverse_and_test(V, null, res);
     }
+    return res;
+}
+
+}  // namespace conecull
+
+// ---- CCD ---------------------------------------------------------------------------------
+#include "conecull/predicates/det_sum.hpp"
+
+namespace conecull {
+
+namespace {
+
+// Deforming non-penetration filter (Tang et al. 2010, Sec. 5.1): a contact needs the four
+// points coplanar at some t; their coplanarity function det[e1(t); e2(t); e3(t)] (e_i linear
+// in t, each a difference head - tail) is a cubic whose Bernstein coefficients are the
+// blossom values below. All four of one strict sign: never coplanar, no contact.
+bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
+    const Det3 c0[1] = {{e0[0], e0[1], e0[2]}};
+    const int s = det_sum_sign(c0);
+    if (s == 0) return false;
+    const Det3 c3[1] = {{e1[0], e1[1], e1[2]}};
+    if (det_sum_sign(c3) != s) return false;
+    // c1 = (det[e1', e2, e3] + det[e1, e2', e3] + det[e1, e2, e3']) / 3, c2 likewise with two primes
+    const Det3 c1[3] = {{e1[0], e0[1], e0[2]}, {e0[0], e1[1], e0[2]}, {e0[0], e0[1], e1[2]}};
+    if (det_sum_sign(c1) != s) return false;
+    const Det3 c2[3] = {{e1[0], e1[1], e0[2]}, {e1[0], e0[1], e1[2]}, {e0[0], e1[1], e1[2]}};
+    return det_sum_sign(c2) == s;
+}
+
+}  // namespace
+
+CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic) {
+    if (arithmetic == Arithmetic::kExact)
+        throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+    CcdResult res;
+    CcdStats& st = res.stats;
+    auto t0 = Clock::now();
+    if (!built_) build(V0);
+    refit_boxes_ccd(bvh_, *topo_, V0, V1);
+    if (method_ == Method::kNc) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
+    st.seconds_refit = seconds_since(t0);
+
+    t0 = Clock::now();
+    candidates_.clear();
+    NullTracer tracer;
+    const Continuous motion{V0, V1};
+    if (method_ == Method::kNc)
+        SelfCollideTraversal<true, NullTracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+    else
+        SelfCollideTraversal<false, NullTracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+    st.seconds_traversal = seconds_since(t0);
+
+    // Low-level culling: every VF / EE pair of the candidate triangle pairs, each once.
+    t0 = Clock::now();
+    const int32_t* F = topo_->faces.data();
+    const int32_t* FE = topo_->face_edges.data();
+    std::vector<uint64_t> vf_keys, ee_keys;
+    for (const TrianglePair& c : candidates_) {
+        const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
+        const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
+        auto in = [](const int32_t* f, int32_t v) { return f[0] == v || f[1] == v || f[2] == v; };
+        for (int k = 0; k < 3; ++k) {
+            if (!in(fq, fp[k])) vf_keys.push_back(static_cast<uint64_t>(fp[k]) << 32 | static_cast<uint32_t>(c.second));
+            if (!in(fp, fq[k])) vf_keys.push_back(static_cast<uint64_t>(fq[k]) << 32 | static_cast<uint32_t>(c.first));
+        }
+        for (int i = 0; i < 3; ++i) {
+            const int32_t a0 = fp[i], a1 = fp[(i + 1) % 3];
+            for (int j = 0; j < 3; ++j) {
+                const int32_t b0 = fq[j], b1 = fq[(j + 1) % 3];
+                if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
+                const int32_t ea = FE[3 * c.first + i], eb = FE[3 * c.second + j];
+                ee_keys.push_back(static_cast<uint64_t>(std::min(ea, eb)) << 32 | static_cast<uint32_t>(std::max(ea, eb)));
+            }
+        }
+    }
+    std::sort(vf_keys.begin(), vf_keys.end());
+    vf_keys.erase(std::unique(vf_keys.begin(), vf_keys.end()), vf_keys.end());
+    std::sort(ee_keys.begin(), ee_keys.end());
+    ee_keys.erase(std::unique(ee_keys.begin(), ee_keys.end()), ee_keys.end());
+    st.vf_candidates = static_cast<int64_t>(vf_keys.size());
+    st.ee_candidates = static_cast<int64_t>(ee_keys.size());
+    st.seconds_pairs = seconds_since(t0);
+
+    t0 = Clock::now();
+    const int32_t* E = topo_->edges.data();
+    for (const uint64_t key : vf_keys) {
+        const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
+        const int32_t* t = F + 3 * static_cast<size_t>(f);
+        const DetRow e0[3] = {{load(V0, t[1]), load(V0, t[0])}, {load(V0, t[2]), load(V0, t[0])}, {load(V0, v), load(V0, t[0])}};
+        const DetRow e1[3] = {{load(V1, t[1]), load(V1, t[0])}, {load(V1, t[2]), load(V1, t[0])}, {load(V1, v), load(V1, t[0])}};
+        if (never_coplanar(e0, e1)) {
+            ++st.npf_culled;
+            continue;
+        }
+        ++st.vf_tests;
+        if (vertex_face_ccd(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v), load(V1, t[0]),
+                            load(V1, t[1]), load(V1, t[2]), arithmetic))
+            res.vf.emplace_back(v, f);
+    }
+    for (const uint64_t key : ee_keys) {
+        const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
+        const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
+        const DetRow e0[3] = {{load(V0, b), load(V0, a)}, {load(V0, d), load(V0, c)}, {load(V0, c), load(V0, a)}};
+        const DetRow e1[3] = {{load(V1, b), load(V1, a)}, {load(V1, d), load(V1, c)}, {load(V1, c), load(V1, a)}};
+        if (never_coplanar(e0, e1)) {
+            ++st.npf_culled;
+            continue;
+        }
+        ++st.ee_tests;
+        if (edge_edge_ccd(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b), load(V1, c),
+                          load(V1, d), arithmetic))
+            res.ee.emplace_back(ea, eb);
+    }
+    st.elementary_tests = st.vf_tests + st.ee_tests;
+    st.vf_contacts = static_cast<int64_t>(res.vf.size());
+    st.ee_contacts = static_cast<int64_t>(res.ee.size());
+    st.colliding_pairs = st.vf_contacts + st.ee_contacts;
+    st.seconds_elementary = seconds_since(t0);
     return res;
 }
 

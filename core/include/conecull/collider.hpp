@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "conecull/bvh/bvh.hpp"
+#include "conecull/ccd/elementary_ccd.hpp"
 #include "conecull/contour/contour.hpp"
 #include "conecull/mesh/topology.hpp"
 #include "conecull/trace/recording_tracer.hpp"
@@ -27,6 +28,20 @@ struct DcdResult {
     DcdStats stats;
 };
 
+struct CcdStats : DcdStats {
+    int64_t vf_candidates = 0, ee_candidates = 0;  // unique pairs from the candidate triangle pairs
+    int64_t npf_culled = 0;                        // dropped by the non-penetration filter
+    int64_t vf_tests = 0, ee_tests = 0;            // elementary tests run
+    int64_t vf_contacts = 0, ee_contacts = 0;
+    double seconds_pairs = 0;                      // building the unique VF / EE pairs
+};
+
+struct CcdResult {
+    std::vector<std::pair<int32_t, int32_t>> vf;  // (vertex, face), sorted
+    std::vector<std::pair<int32_t, int32_t>> ee;  // (edge a, edge b), a < b, sorted
+    CcdStats stats;
+};
+
 class SelfCollider {
    public:
     SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size);
@@ -34,6 +49,9 @@ class SelfCollider {
     // V: (n_vertices, 3) float64, row-major, validated by the caller. The BVH and contours are
     // built from the first pose given. With a tracer, the query's events are appended to it.
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr);
+
+    // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
+    CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic);
 
     bool built() const { return built_; }
     Method method() const { return method_; }

@@ -11,7 +11,7 @@ unprojected contour test (Alg. 1, 2), with exact predicates throughout.
     res.stats                                        # dict of counters and seconds
 """
 
-from conecull._api import DcdResult, Mesh, SelfCollider, METHODS
+from conecull._api import ARITHMETIC, CcdResult, DcdResult, Mesh, SelfCollider, METHODS
 
-__all__ = ["Mesh", "SelfCollider", "DcdResult", "METHODS"]
+__all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "ARITHMETIC"]
 __version__ = "0.1.0"

@@ -152,6 +152,20 @@ class DcdResult:
     """The query's events (conecull.trace schema) when queried with trace=True."""
 
 
+@dataclass
+class CcdResult:
+    vf: np.ndarray
+    """(k, 2) int64 rows (vertex id, face id) in contact during the step, sorted."""
+    ee: np.ndarray
+    """(k, 2) int64 rows (edge a, edge b), a < b, ids of Mesh.edges, sorted."""
+    stats: dict = field(default_factory=dict)
+    toi: np.ndarray | None = None
+    """Earliest contact time per row (vf then ee), when available (not yet)."""
+
+
+ARITHMETIC = ("float", "conservative", "exact")
+
+
 class SelfCollider:
     """Self-collision queries on one mesh; keeps the BVH and contours between queries.
 
@@ -179,6 +193,19 @@ class SelfCollider:
         a = _as_positions(V, self.mesh.n_vertices)
         pairs, stats, raw = self._core.dcd(a, bool(trace))
         return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
+
+    def ccd(self, V0, V1, arithmetic: str = "exact") -> CcdResult:
+        """Continuous query: every vertex moves linearly from V0 to V1 over t in [0, 1].
+
+        arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
+        a few that do not happen) or "exact" (not implemented yet: raises ValueError).
+        """
+        if not isinstance(arithmetic, str) or arithmetic not in ARITHMETIC:
+            raise ValueError(f"arithmetic: expected one of {ARITHMETIC}, got {arithmetic!r}")
+        a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
+        a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
+        vf, ee, stats = self._core.ccd(a0, a1, arithmetic)
+        return CcdResult(vf=vf, ee=ee, stats=stats)
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:

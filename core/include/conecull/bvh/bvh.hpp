@@ -54,4 +54,10 @@ void refit_boxes(Bvh& bvh, const Topology& topo, const double* V);
 // nodes their children's.
 void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones);
 
+// CCD: swept boxes (the box of both poses holds every linear motion between them) and cones
+// holding every triangle's normal for all t in [0, 1].
+void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1);
+void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
+                     std::vector<NormalCone>& cones);
+
 }  // namespace conecull

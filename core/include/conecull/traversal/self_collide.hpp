@@ -10,6 +10,7 @@
 #include "conecull/bvh/bvh.hpp"
 #include "conecull/cone/normal_cone.hpp"
 #include "conecull/contour/contour.hpp"
+#include "conecull/ccd/contour_test_ccd.hpp"
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/trace/null_tracer.hpp"
 #include "conecull/traversal/stats.hpp"
@@ -18,12 +19,29 @@ namespace conecull {
 
 using TrianglePair = std::pair<int32_t, int32_t>;
 
-template <bool kUseCones, class Tracer>
+// The motion a query covers, as a policy of the traversal: one pose (DCD, Alg. 1) or a linear
+// step from V0 to V1 (CCD, Alg. 3). Only the contour test depends on it; boxes and cones were
+// refit for it beforehand.
+struct Discrete {
+    const double* V;
+    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
+        return unprojected_contour_test(loop, n, V, l);
+    }
+};
+struct Continuous {
+    const double* V0;
+    const double* V1;
+    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
+        return unprojected_contour_test_ccd(loop, n, V0, V1, l);
+    }
+};
+
+template <bool kUseCones, class Tracer, class Motion = Discrete>
 class SelfCollideTraversal {
    public:
     SelfCollideTraversal(const Bvh& bvh, const Contours& contours, const std::vector<NormalCone>& cones,
-                         const double* V, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates)
-        : bvh_(bvh), contours_(contours), cones_(cones), V_(V), tracer_(tracer), stats_(stats), out_(candidates) {}
+                         const Motion& motion, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates)
+        : bvh_(bvh), contours_(contours), cones_(cones), motion_(motion), tracer_(tracer), stats_(stats), out_(candidates) {}
 
     void run() {
         if (bvh_.size() > 0) self_collide(0);
@@ -63,7 +81,7 @@ class SelfCollideTraversal {
             return false;
         }
         ++stats_.contour_tests;
-        const ContourVerdict v = unprojected_contour_test(contours_.loop(i), contours_.loop_size(i), V_, cone.axis);
+        const ContourVerdict v = motion_.contour_test(contours_.loop(i), contours_.loop_size(i), cone.axis);
         stats_.contour_edges += v.edges_visited;
         ++stats_.contour_reasons[static_cast<int>(v.reason)];
         if constexpr (kTraceHooks<Tracer>) tracer_.on_contour_test(i, v);
@@ -103,7 +121,7 @@ class SelfCollideTraversal {
     const Bvh& bvh_;
     const Contours& contours_;
     const std::vector<NormalCone>& cones_;
-    const double* V_;
+    Motion motion_;
     Tracer& tracer_;
     DcdStats& stats_;
     std::vector<TrianglePair>& out_;

@@ -1,0 +1,97 @@
+"""CCD queries of whole meshes: both methods return exactly the pairs of a brute force over
+every VF and EE pair (same elementary test), and on the real steps of ../shared/data/scalable-ccd
+conservative arithmetic finds every ground-truth contact."""
+
+import numpy as np
+import pytest
+
+import conecull
+import meshcases
+from conecull._core import ccd as C
+from conecull.datasets.generated import fold, grid_sheet
+from shared_data import load_scalable_step, scalable_ccd_steps
+
+
+def brute_force_ccd(F, V0, V1, arithmetic):
+    mesh = conecull.Mesh(F, n_vertices=len(V0))
+    E = mesh.edges
+    used = np.unique(F)
+    v = np.repeat(used, len(F))
+    f = np.tile(np.arange(len(F)), len(used))
+    keep = ~(F[f] == v[:, None]).any(axis=1)
+    v, f = v[keep], f[keep]
+    cols = [V0[v], V0[F[f, 0]], V0[F[f, 1]], V0[F[f, 2]], V1[v], V1[F[f, 0]], V1[F[f, 1]], V1[F[f, 2]]]
+    hit = C.vertex_face_ccd_rows(*[np.ascontiguousarray(c) for c in cols], arithmetic)
+    vf = {(int(a), int(b)) for a, b in zip(v[hit], f[hit])}
+    i, j = np.triu_indices(len(E), 1)
+    keep = ~((E[i][:, :, None] == E[j][:, None, :]).any(axis=(1, 2)))
+    i, j = i[keep], j[keep]
+    a, b, c, d = E[i, 0], E[i, 1], E[j, 0], E[j, 1]
+    cols = [V0[a], V0[b], V0[c], V0[d], V1[a], V1[b], V1[c], V1[d]]
+    hit = C.edge_edge_ccd_rows(*[np.ascontiguousarray(x) for x in cols], arithmetic)
+    ee = {(int(x), int(y)) for x, y in zip(i[hit], j[hit])}
+    return vf, ee
+
+
+def steps():
+    F, V = grid_sheet(9, 9)
+    yield "fold", F, fold(V, 0.9 * np.pi, radius=0.05), fold(V, 1.15 * np.pi, radius=0.05)
+    _, F2, Va = meshcases.case("crumple_medium_s2")
+    rng = np.random.default_rng(1)
+    yield "crumple", F2, Va, Va + 0.02 * rng.standard_normal(Va.shape)
+    _, F3, Vc = meshcases.case("cylinder_twist_mild")
+    c, s = np.cos(0.3 * Vc[:, 2:3]), np.sin(0.3 * Vc[:, 2:3])
+    yield "twist", F3, Vc, np.hstack([c * Vc[:, :1] - s * Vc[:, 1:2], s * Vc[:, :1] + c * Vc[:, 1:2], Vc[:, 2:]])
+    Fs, Vs = grid_sheet(7, 7)
+    two_F = np.vstack([Fs, Fs + len(Vs)])
+    A0 = np.vstack([Vs, Vs + [0.1, 0.05, 0.3]])
+    A1 = np.vstack([Vs, Vs + [0.1, 0.05, -0.3]])  # the second sheet passes through the first
+    yield "two-sheets", two_F, A0, A1
+
+
+STEPS = list(steps())
+
+
+@pytest.mark.parametrize("name,F,V0,V1", STEPS, ids=[s[0] for s in STEPS])
+@pytest.mark.parametrize("arithmetic", ["conservative", "float"])
+def test_methods_equal_brute_force(name, F, V0, V1, arithmetic):
+    vf_ref, ee_ref = brute_force_ccd(F, V0, V1, arithmetic)
+    if arithmetic == "conservative" and name in ("fold", "two-sheets"):
+        assert vf_ref and ee_ref  # the step really has contacts
+    mesh = conecull.Mesh(F, n_vertices=len(V0))
+    for method in conecull.METHODS:
+        col = conecull.SelfCollider(mesh, method=method)
+        res = col.ccd(V0, V1, arithmetic=arithmetic)
+        assert {tuple(r) for r in res.vf.tolist()} == vf_ref, f"{name} {method}: VF differ"
+        assert {tuple(r) for r in res.ee.tolist()} == ee_ref, f"{name} {method}: EE differ"
+        assert np.array_equal(res.vf, np.unique(res.vf, axis=0)) and np.array_equal(res.ee, np.unique(res.ee, axis=0))
+        s = res.stats
+        assert s["vf_tests"] + s["ee_tests"] + s["npf_culled"] == s["vf_candidates"] + s["ee_candidates"]
+
+
+def test_exact_not_yet_and_bad_input():
+    F, V = grid_sheet(4, 4)
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    with pytest.raises(ValueError, match="exact"):
+        col.ccd(V, V)
+    with pytest.raises(ValueError, match=r"V1: has 3 rows but the mesh has 16 vertices"):
+        col.ccd(V, V[:3], arithmetic="conservative")
+    with pytest.raises(ValueError, match="arithmetic: expected one of"):
+        col.ccd(V, V, arithmetic="fast")
+
+
+STEPS_REAL = scalable_ccd_steps()
+
+
+@pytest.mark.parametrize("scene,step", STEPS_REAL, ids=[f"{a}-{b}" for a, b in STEPS_REAL])
+def test_real_steps_conservative_finds_every_contact(scene, step):
+    F, V0, V1, vf_true, ee_true = load_scalable_step(scene, step)
+    mesh = conecull.Mesh(F, n_vertices=len(V0))
+    for method in conecull.METHODS:
+        res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic="conservative")
+        vf = {tuple(r) for r in res.vf.tolist()}
+        ee = {tuple(r) for r in res.ee.tolist()}
+        assert vf_true <= vf, f"{scene} {method}: missed VF {sorted(vf_true - vf)[:5]}"
+        assert ee_true <= ee, f"{scene} {method}: missed EE {sorted(ee_true - ee)[:5]}"
+        print(f"{scene}/{step} {method}: truth vf {len(vf_true)} ee {len(ee_true)}; conservative vf {len(vf)} "
+              f"ee {len(ee)}; {res.stats['seconds_refit'] + res.stats['seconds_traversal'] + res.stats['seconds_elementary']:.3f} s")
