@@ -127,8 +127,6 @@ void bind_collider(py::module_& m) {
                 require_shape(V0, "V0", n, 3);
                 require_shape(V1, "V1", n, 3);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
-                if (mode == Arithmetic::kExact)
-                    throw py::value_error("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
                 CcdResult res;
                 {
                     py::gil_scoped_release release;

@@ -114,8 +114,6 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 }  // namespace
 
 CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic) {
-    if (arithmetic == Arithmetic::kExact)
-        throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
     CcdResult res;
     CcdStats& st = res.stats;
     auto t0 = Clock::now();
@@ -134,33 +132,68 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
         SelfCollideTraversal<false, NullTracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
     st.seconds_traversal = seconds_since(t0);
 
-    // Low-level culling: every VF / EE pair of the candidate triangle pairs, each once.
+    // Low-level culling: every VF / EE pair of the candidate triangle pairs whose primitives'
+    // swept boxes overlap, each once.
     t0 = Clock::now();
     const int32_t* F = topo_->faces.data();
     const int32_t* FE = topo_->face_edges.data();
-    std::vector<uint64_t> vf_keys, ee_keys;
+    const int32_t* Ed = topo_->edges.data();
+    auto swept = [&](std::initializer_list<int32_t> ids) {
+        Aabb b{load(V0, *ids.begin()), load(V0, *ids.begin())};
+        for (int32_t v : ids)
+            for (const double* V : {V0, V1}) {
+                const Vec3 x = load(V, v);
+                b.lo = {std::min(b.lo.x, x.x), std::min(b.lo.y, x.y), std::min(b.lo.z, x.z)};
+                b.hi = {std::max(b.hi.x, x.x), std::max(b.hi.y, x.y), std::max(b.hi.z, x.z)};
+            }
+        return b;
+    };
+    vertex_boxes_.resize(topo_->n_vertices);
+    for (int32_t v = 0; v < topo_->n_vertices; ++v) vertex_boxes_[v] = swept({v});
+    edge_boxes_.resize(topo_->n_edges());
+    for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]});
+    face_boxes_.resize(topo_->n_faces());
+    for (int32_t f = 0; f < topo_->n_faces(); ++f) face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]});
+    // Each vertex and each edge is owned by one of its faces; a VF pair (v, f) is produced only
+    // by the candidate pair (owner(v), f), an EE pair only by (owner(ea), owner(eb)). Every pair
+    // is then produced at most once with no sorting, and none is lost: if v touches f, the
+    // boxes of owner(v) and f overlap, so that pair is a candidate (or lies in a culled node,
+    // which has no contact at any t).
+    if (vertex_owner_.empty()) {
+        vertex_owner_.assign(topo_->n_vertices, -1);
+        for (int32_t f = topo_->n_faces() - 1; f >= 0; --f)
+            for (int k = 0; k < 3; ++k) vertex_owner_[F[3 * f + k]] = f;
+        edge_owner_.resize(topo_->n_edges());
+        for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_owner_[e] = topo_->edge_face_ids[topo_->edge_face_offsets[e]];
+    }
+    std::vector<uint64_t>& vf_keys = vf_keys_;
+    std::vector<uint64_t>& ee_keys = ee_keys_;
+    vf_keys.clear();
+    ee_keys.clear();
     for (const TrianglePair& c : candidates_) {
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
         auto in = [](const int32_t* f, int32_t v) { return f[0] == v || f[1] == v || f[2] == v; };
         for (int k = 0; k < 3; ++k) {
-            if (!in(fq, fp[k])) vf_keys.push_back(static_cast<uint64_t>(fp[k]) << 32 | static_cast<uint32_t>(c.second));
-            if (!in(fp, fq[k])) vf_keys.push_back(static_cast<uint64_t>(fq[k]) << 32 | static_cast<uint32_t>(c.first));
+            if (vertex_owner_[fp[k]] == c.first && !in(fq, fp[k]) && vertex_boxes_[fp[k]].overlaps(face_boxes_[c.second]))
+                vf_keys.push_back(static_cast<uint64_t>(fp[k]) << 32 | static_cast<uint32_t>(c.second));
+            if (vertex_owner_[fq[k]] == c.second && !in(fp, fq[k]) && vertex_boxes_[fq[k]].overlaps(face_boxes_[c.first]))
+                vf_keys.push_back(static_cast<uint64_t>(fq[k]) << 32 | static_cast<uint32_t>(c.first));
         }
         for (int i = 0; i < 3; ++i) {
+            const int32_t ea = FE[3 * c.first + i];
+            if (edge_owner_[ea] != c.first) continue;
             const int32_t a0 = fp[i], a1 = fp[(i + 1) % 3];
             for (int j = 0; j < 3; ++j) {
+                const int32_t eb = FE[3 * c.second + j];
+                if (edge_owner_[eb] != c.second) continue;
                 const int32_t b0 = fq[j], b1 = fq[(j + 1) % 3];
                 if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-                const int32_t ea = FE[3 * c.first + i], eb = FE[3 * c.second + j];
+                if (!edge_boxes_[ea].overlaps(edge_boxes_[eb])) continue;
                 ee_keys.push_back(static_cast<uint64_t>(std::min(ea, eb)) << 32 | static_cast<uint32_t>(std::max(ea, eb)));
             }
         }
     }
-    std::sort(vf_keys.begin(), vf_keys.end());
-    vf_keys.erase(std::unique(vf_keys.begin(), vf_keys.end()), vf_keys.end());
-    std::sort(ee_keys.begin(), ee_keys.end());
-    ee_keys.erase(std::unique(ee_keys.begin(), ee_keys.end()), ee_keys.end());
     st.vf_candidates = static_cast<int64_t>(vf_keys.size());
     st.ee_candidates = static_cast<int64_t>(ee_keys.size());
     st.seconds_pairs = seconds_since(t0);
@@ -195,6 +228,8 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
                           load(V1, d), arithmetic))
             res.ee.emplace_back(ea, eb);
     }
+    std::sort(res.vf.begin(), res.vf.end());
+    std::sort(res.ee.begin(), res.ee.end());
     st.elementary_tests = st.vf_tests + st.ee_tests;
     st.vf_contacts = static_cast<int64_t>(res.vf.size());
     st.ee_contacts = static_cast<int64_t>(res.ee.size());

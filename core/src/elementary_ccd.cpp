@@ -184,7 +184,15 @@ double segment_segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, 
 
 constexpr double kFloatTolerance = 1e-9;  // relative to the size of the configuration
 
+constexpr CcdOptions kFilter{10, 2000};  // a quick conservative filter before the exact decision
+
 }  // namespace
+
+// exact_ccd.cpp
+bool vertex_face_ccd_exact(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
+                           const Vec3& a1, const Vec3& b1, const Vec3& c1);
+bool edge_edge_ccd_exact(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                         const Vec3& b1, const Vec3& c1, const Vec3& d1);
 
 bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1, const Vec3& a1,
                      const Vec3& b1, const Vec3& c1, Arithmetic mode, const CcdOptions& opt) {
@@ -203,7 +211,9 @@ bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3&
                 return true;
         return false;
     }
-    throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+    // exact: the conservative filter never misses, so its "no" is final; its "maybe" is decided exactly.
+    if (!vertex_face_ccd(p0, a0, b0, c0, p1, a1, b1, c1, Arithmetic::kConservative, kFilter)) return false;
+    return vertex_face_ccd_exact(p0, a0, b0, c0, p1, a1, b1, c1);
 }
 
 bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1, const Vec3& b1,
@@ -223,7 +233,8 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
                 return true;
         return false;
     }
-    throw std::invalid_argument("arithmetic: 'exact' CCD is not implemented yet; use 'conservative' or 'float'");
+    if (!edge_edge_ccd(a0, b0, c0, d0, a1, b1, c1, d1, Arithmetic::kConservative, kFilter)) return false;
+    return edge_edge_ccd_exact(a0, b0, c0, d0, a1, b1, c1, d1);
 }
 
 }  // namespace conecull

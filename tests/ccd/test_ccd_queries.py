@@ -1,6 +1,6 @@
 """Single CCD queries of ../shared/data/ccd-queries (exact ground truth, many hand-crafted
-degenerate ones): conservative arithmetic never misses a contact; float's errors are counted.
-(Exact arithmetic: not implemented yet.)"""
+degenerate ones): exact arithmetic has no false negative and no false positive, conservative
+never misses a contact, float's errors are counted."""
 
 import numpy as np
 import pytest
@@ -41,7 +41,15 @@ def test_float_errors_are_counted():
     assert total > 0
 
 
-def test_exact_is_refused_for_now():
+@pytest.mark.parametrize("path", FILES, ids=[f"{p.parent.parent.name}/{p.parent.name}/{p.name}" for p in FILES])
+def test_exact_equals_ground_truth(path):
+    kind, pts, truth = load_ccd_queries(path)
+    got = run(kind, pts, "exact")
+    assert np.array_equal(got, truth), (f"{path}: FN at {np.flatnonzero(truth & ~got)[:10].tolist()}, "
+                                        f"FP at {np.flatnonzero(~truth & got)[:10].tolist()}")
+
+
+def test_bad_arithmetic():
     kind, pts, _ = load_ccd_queries(FILES[0])
-    with pytest.raises(ValueError, match="exact"):
-        run(kind, pts[:1], "exact")
+    with pytest.raises(ValueError, match="arithmetic: expected 'float', 'conservative' or 'exact'"):
+        run(kind, pts[:1], "fast")

@@ -73,6 +73,9 @@ class SelfCollider {
     Contours contours_;
     std::vector<NormalCone> cones_;
     std::vector<TrianglePair> candidates_;  // reused between queries
+    std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives
+    std::vector<uint64_t> vf_keys_, ee_keys_;
+    std::vector<int32_t> vertex_owner_, edge_owner_;  // CCD: the face that produces a vertex's / edge's pairs
 };
 
 }  // namespace conecull

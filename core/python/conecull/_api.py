@@ -198,7 +198,7 @@ class SelfCollider:
         """Continuous query: every vertex moves linearly from V0 to V1 over t in [0, 1].
 
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
-        a few that do not happen) or "exact" (not implemented yet: raises ValueError).
+        a few that do not happen) or "exact" (exactly the answer for the given doubles).
         """
         if not isinstance(arithmetic, str) or arithmetic not in ARITHMETIC:
             raise ValueError(f"arithmetic: expected one of {ARITHMETIC}, got {arithmetic!r}")

@@ -11,7 +11,10 @@
 //                  rounding-error bound. A box is dropped only when some component provably
 //                  keeps one sign on it, so no contact is ever missed; boxes that stay
 //                  undecided down to the tolerance (or past the box budget) report contact.
-//   kExact         (not yet implemented).
+//   kExact         the conservative test as a filter (its "no" is final), then an exact
+//                  decision: exact root isolation of the polynomials in t with dyadic
+//                  arithmetic and their signs at those roots (exact_ccd.cpp) - exactly the
+//                  answer for the given doubles.
 #pragma once
 
 #include "conecull/vec3.hpp"

@@ -1,0 +1,62 @@
+"""Hard CCD cases, named, with answers known by construction: exact gives the answer,
+conservative never says no when the answer is yes."""
+
+import numpy as np
+import pytest
+
+from conecull._core import ccd as C
+
+
+def vf(p0, a0, b0, c0, p1, a1, b1, c1, arithmetic):
+    return bool(C.vertex_face_ccd_rows(*[np.array([x], float) for x in (p0, a0, b0, c0, p1, a1, b1, c1)], arithmetic)[0])
+
+
+def ee(a0, b0, c0, d0, a1, b1, c1, d1, arithmetic):
+    return bool(C.edge_edge_ccd_rows(*[np.array([x], float) for x in (a0, b0, c0, d0, a1, b1, c1, d1)], arithmetic)[0])
+
+
+T = ([0, 0, 0], [1, 0, 0], [0, 1, 0])  # a face in z = 0
+Z = [0, 0, 0]
+
+
+def still(face):
+    return (*face, *face)
+
+
+CASES = [
+    # name, kind, args (t0 then t1), expected
+    ("vf-vertex-on-face-at-t0", "vf", ([0.25, 0.25, 0], *T, [0.25, 0.25, 1], *T), True),
+    ("vf-vertex-on-face-at-t1", "vf", ([0.25, 0.25, 1], *T, [0.25, 0.25, 0], *T), True),
+    ("vf-contact-exactly-at-t1-edge", "vf", ([0.5, 0.5, 1], *T, [0.5, 0.5, 0], *T), True),   # lands on the hypotenuse
+    ("vf-miss-just-outside-at-t1", "vf", ([0.5, 0.5 + 2**-40, 1], *T, [0.5, 0.5 + 2**-40, 0], *T), False),
+    ("vf-vertex-on-edge-t0", "vf", ([0.5, 0, 0], *T, [0.5, 0, 3], *T), True),
+    ("vf-zero-motion-apart", "vf", ([0.2, 0.2, 1e-3], *T, [0.2, 0.2, 1e-3], *T), False),
+    ("vf-zero-motion-touching", "vf", ([0.2, 0.2, 0], *T, [0.2, 0.2, 0], *T), True),
+    ("vf-pass-through", "vf", ([0.2, 0.2, 1], *T, [0.2, 0.2, -1], *T), True),
+    ("vf-pass-beside", "vf", ([1.2, 1.2, 1], *T, [1.2, 1.2, -1], *T), False),
+    ("vf-face-degenerates-to-zero-area", "vf",
+     ([0.25, 0.1, 0.5], [0, 0, 0], [1, 0, 0], [0, 1, 0], [0.25, 0.1, 0.5], [0, 0, 1], [1, 0, 1], [0.5, 0, 1]), True),
+    ("vf-degenerate-face-miss", "vf",
+     ([0.25, 0.6, 0.5], [0, 0, 0], [1, 0, 0], [0, 1, 0], [0.25, 0.6, 0.5], [0, 0, 1], [1, 0, 1], [0.5, 0, 1]), False),
+    ("vf-offset-1e6", "vf", (*[np.add(x, 1e6).tolist() for x in ([0.25, 0.25, 1], *T, [0.25, 0.25, -1], *T)],), True),
+    ("vf-offset-1e6-miss", "vf", (*[np.add(x, 1e6).tolist() for x in ([1.25, 0.25, 1], *T, [1.25, 0.25, -1], *T)],), False),
+    ("vf-motion-1e-12-through", "vf", ([0.25, 0.25, 5e-13], *T, [0.25, 0.25, -5e-13], *T), True),
+    ("vf-motion-1e-12-short", "vf", ([0.25, 0.25, 2e-12], *T, [0.25, 0.25, 1e-12], *T), False),
+    ("ee-crossing", "ee", ([0, 0, 1], [1, 0, 1], [0.5, -1, 0], [0.5, 1, 0], [0, 0, -1], [1, 0, -1], [0.5, -1, 0], [0.5, 1, 0]), True),
+    ("ee-parallel-apart", "ee", ([0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 0], [1, 0, 0], [0, 0.5, 0], [1, 0.5, 0]), False),
+    ("ee-parallel-meeting-at-t1", "ee", ([0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 0], [1, 0, 0], [0, 0, 0], [1, 0, 0]), True),
+    ("ee-collinear-overlapping", "ee", ([0, 0, 0], [1, 0, 0], [0.5, 0, 0], [2, 0, 0], [0, 0, 0], [1, 0, 0], [0.5, 0, 0], [2, 0, 0]), True),
+    ("ee-collinear-disjoint", "ee", ([0, 0, 0], [1, 0, 0], [1.5, 0, 0], [2, 0, 0], [0, 0, 0], [1, 0, 0], [1.5, 0, 0], [2, 0, 0]), False),
+    ("ee-collinear-sliding-into-touch", "ee", ([0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 0, 0], [0, 0, 0], [1, 0, 0], [1, 0, 0], [2, 0, 0]), True),
+    ("ee-endpoint-touch-at-t0", "ee", ([0, 0, 0], [1, 0, 0], [1, 0, 0], [1, 1, 0], [0, 0, 5], [1, 0, 5], [1, 0, 0], [1, 1, 0]), True),
+    ("ee-skew-miss", "ee", ([0, 0, 0], [1, 0, 0], [2, -1, 1], [2, 1, 1], [0, 0, 0], [1, 0, 0], [2, -1, -1], [2, 1, -1]), False),
+    ("ee-zero-motion", "ee", ([0, 0, 0], [1, 0, 0], [0.5, -1, 1e-9], [0.5, 1, 1e-9]) * 2, False),
+]
+
+
+@pytest.mark.parametrize("name,kind,args,expected", CASES, ids=[c[0] for c in CASES])
+def test_hard_case(name, kind, args, expected):
+    fn = vf if kind == "vf" else ee
+    assert fn(*args, "exact") == expected
+    if expected:
+        assert fn(*args, "conservative")  # conservative never misses
