@@ -144,3 +144,117 @@ def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 
     print(f"targets: trace off within 2% of the hook-free build ({med['trace off'] / base - 1:+.1%}), "
           f"trace on within 2x of trace off ({med['trace on'] / med['trace off']:.2f}x); JSON: {path}")
     return 0
+
+
+def _shared_data_dir():
+    import pathlib
+
+    env = os.environ.get("CONECULL_SHARED")
+    for cand in ([pathlib.Path(env)] if env else []) + [pathlib.Path.cwd().parent / "shared",
+                                                        pathlib.Path(__file__).resolve().parents[2] / "shared"]:
+        if (cand / "data").exists():
+            return cand / "data"
+    return None
+
+
+def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3, out: str = "bench-results") -> int:
+    """What accuracy costs in time: per arithmetic mode, on the shared real steps and a generated
+    64K cloth step, ms per step, us per elementary test, FN and FP against ground truth; and the
+    same for the single-query sets. Method nc, one thread, medians of `repeats` runs."""
+    import sys
+
+    data = _shared_data_dir()
+    if data is None:
+        print("../shared/data not found (set CONECULL_SHARED); only the generated step is measured")
+    sys.path.insert(0, str(pathlib_tests()))
+    from shared_data import load_ccd_queries, load_scalable_step  # tests/shared_data.py
+
+    steps = []
+    if data is not None:
+        for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
+            for vf in sorted((scene / "boxes").glob("*vf.json")):
+                F, V0, V1, vf_t, ee_t = load_scalable_step(scene.name, vf.name[:-len("vf.json")])
+                steps.append((f"{scene.name} ({len(F) // 1000}K)", F, V0, V1, vf_t, ee_t))
+    F, V = sheet_for_triangles(n_triangles)
+    V = V.copy()
+    V[:, 2] = 0.002 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
+    G0, G1 = fold(V, 1.10 * np.pi, radius=0.03), fold(V, 1.13 * np.pi, radius=0.03)
+    steps.append((f"generated fold ({len(F) // 1000}K)", F, G0, G1, None, None))
+
+    print(f"# CCD: what accuracy costs in time (method nc, one thread, median of {repeats} runs)")
+    print()
+    print("| step | mode | ms per step | elementary tests | us per test | FN | FP |")
+    print("|---|---|---|---|---|---|---|")
+    rows = []
+    for name, F, V0, V1, vf_t, ee_t in steps:
+        mesh = conecull.Mesh(F, n_vertices=len(V0))
+        col = conecull.SelfCollider(mesh, method="nc")
+        col.dcd(V0)  # build
+        results = {}
+        for mode in ("float", "conservative", "exact"):
+            times = []
+            for _ in range(repeats):
+                t = time.perf_counter()
+                res = col.ccd(V0, V1, arithmetic=mode)
+                times.append(time.perf_counter() - t)
+            results[mode] = (statistics.median(times), res)
+        if vf_t is None:  # the generated step: exact mode is the ground truth
+            ex = results["exact"][1]
+            vf_t = {tuple(r) for r in ex.vf.tolist()}
+            ee_t = {tuple(r) for r in ex.ee.tolist()}
+        for mode, (secs, res) in results.items():
+            vf = {tuple(r) for r in res.vf.tolist()}
+            ee = {tuple(r) for r in res.ee.tolist()}
+            fn = len(vf_t - vf) + len(ee_t - ee)
+            fp = len(vf - vf_t) + len(ee - ee_t)
+            tests = res.stats["elementary_tests"]
+            us = 1e6 * res.stats["seconds_elementary"] / max(1, tests)
+            rows.append({"step": name, "mode": mode, "ms": 1e3 * secs, "elementary_tests": tests, "us_per_test": us,
+                         "fn": fn, "fp": fp, "stats": {k: v for k, v in res.stats.items() if not isinstance(v, dict)}})
+            print(f"| {name} | {mode} | {1e3 * secs:.1f} | {tests} | {us:.2f} | {fn} | {fp} |")
+        ratio = results["exact"][0] / results["float"][0]
+        print(f"| {name} | exact / float | {ratio:.2f}x | | | | |")
+
+    if data is not None:
+        from conecull._core import ccd as C
+
+        print()
+        print("| single-query sets | mode | queries | ms total | us per query | FN | FP |")
+        print("|---|---|---|---|---|---|---|")
+        files = sorted((data / "ccd-queries").glob("*/*/*.csv"))
+        loaded = [load_ccd_queries(p) for p in files]
+        for mode in ("float", "conservative", "exact"):
+            total = fn = fp = 0
+            secs = 0.0
+            for kind, pts, truth in loaded:
+                fnc = C.vertex_face_ccd_rows if kind == "vf" else C.edge_edge_ccd_rows
+                cols = [np.ascontiguousarray(pts[:, i]) for i in range(8)]
+                ts = []
+                for _ in range(repeats):
+                    t = time.perf_counter()
+                    got = fnc(*cols, mode)
+                    ts.append(time.perf_counter() - t)
+                secs += statistics.median(ts)
+                total += len(truth)
+                fn += int((truth & ~got).sum())
+                fp += int((~truth & got).sum())
+            rows.append({"step": "ccd-queries", "mode": mode, "queries": total, "ms": 1e3 * secs, "fn": fn, "fp": fp})
+            print(f"| ccd-queries (all sets) | {mode} | {total} | {1e3 * secs:.1f} | {1e6 * secs / total:.2f} | {fn} | {fp} |")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "ccd.json")
+    with open(path, "w") as fh:
+        json.dump({"repeats": repeats, "rows": rows}, fh, indent=1, default=float)
+    print()
+    print(f"JSON: {path}")
+    return 0
+
+
+def pathlib_tests():
+    """tests/ of a source checkout (the loaders of ../shared/data live there)."""
+    import pathlib
+
+    here = pathlib.Path(__file__).resolve()
+    for cand in (here.parents[1] / "tests", pathlib.Path.cwd() / "tests"):
+        if (cand / "shared_data.py").exists():
+            return cand
+    raise RuntimeError("conecull bench ccd runs from a source checkout (it reads ../shared/data with tests/shared_data.py)")

@@ -37,7 +37,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", choices=["dcd", "trace"], help="dcd: methods and leaf sizes; trace: tracing overhead")
+    p.add_argument("suite", choices=["dcd", "trace", "ccd"],
+                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time")
     p.add_argument("--triangles", type=int, default=64000)
     p.add_argument("--frames", type=int, default=8)
     p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
@@ -99,9 +100,9 @@ def _run(args) -> int:
         print(explain_node(col, res, args.node))
         return 0
     if args.command == "bench":
-        from conecull.app.bench import run_dcd_bench, run_trace_bench
+        from conecull.app.bench import run_ccd_bench, run_dcd_bench, run_trace_bench
 
-        run = run_dcd_bench if args.suite == "dcd" else run_trace_bench
+        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench}[args.suite]
         return run(args.triangles, args.frames, args.repeats, args.out)
     return 2
 

@@ -60,3 +60,17 @@ def test_hard_case(name, kind, args, expected):
     assert fn(*args, "exact") == expected
     if expected:
         assert fn(*args, "conservative")  # conservative never misses
+
+
+def test_public_scalar_functions_and_errors():
+    import conecull
+
+    assert conecull.vertex_face_ccd([0.25, 0.25, 1], *T, [0.25, 0.25, -1], *T)
+    assert not conecull.edge_edge_ccd([0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0], [0, 0, 0], [1, 0, 0], [0, 0.5, 0],
+                                      [1, 0.5, 0], arithmetic="conservative")
+    with pytest.raises(ValueError, match=r"f1_t1: expected shape \(3,\), got \(2,\)"):
+        conecull.vertex_face_ccd([0, 0, 0], *T, [0, 0, 0], T[0], [1, 0], T[2])
+    with pytest.raises(ValueError, match=r"v_t0: non-finite coordinate nan"):
+        conecull.vertex_face_ccd([np.nan, 0, 0], *T, [0, 0, 0], *T)
+    with pytest.raises(ValueError, match="arithmetic: expected one of"):
+        conecull.edge_edge_ccd(*([[0, 0, 0]] * 8), arithmetic="double")

@@ -9,9 +9,13 @@ unprojected contour test (Alg. 1, 2), with exact predicates throughout.
     res = col.dcd(V)                                 # (n, 3) float64 (float32 accepted)
     res.pairs                                        # (k, 2) int64, i < j, sorted
     res.stats                                        # dict of counters and seconds
+    res = col.ccd(V0, V1, arithmetic="exact")        # continuous: res.vf, res.ee
+    conecull.vertex_face_ccd(v_t0, f0_t0, f1_t0, f2_t0, v_t1, f0_t1, f1_t1, f2_t1)
+    conecull.edge_edge_ccd(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1)
 """
 
-from conecull._api import ARITHMETIC, CcdResult, DcdResult, Mesh, SelfCollider, METHODS
+from conecull._api import ARITHMETIC, CcdResult, DcdResult, Mesh, SelfCollider, METHODS, edge_edge_ccd, vertex_face_ccd
 
-__all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "ARITHMETIC"]
+__all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "ARITHMETIC", "vertex_face_ccd",
+           "edge_edge_ccd"]
 __version__ = "0.1.0"

@@ -200,8 +200,7 @@ class SelfCollider:
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
         """
-        if not isinstance(arithmetic, str) or arithmetic not in ARITHMETIC:
-            raise ValueError(f"arithmetic: expected one of {ARITHMETIC}, got {arithmetic!r}")
+        _check_arithmetic(arithmetic)
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
         vf, ee, stats = self._core.ccd(a0, a1, arithmetic)
@@ -216,3 +215,35 @@ class SelfCollider:
 
     def contour_arrays(self) -> dict:
         return self._core.contour_arrays()
+
+
+def _as_point(x, name: str) -> np.ndarray:
+    a = np.asarray(x)
+    if a.dtype.kind not in "fiu":
+        raise ValueError(f"{name}: expected 3 real coordinates, got dtype {a.dtype}")
+    if a.shape != (3,):
+        raise ValueError(f"{name}: expected shape (3,), got {a.shape}")
+    return _as_positions(a.astype(np.float64).reshape(1, 3), 1, name)
+
+
+def _check_arithmetic(arithmetic):
+    if not isinstance(arithmetic, str) or arithmetic not in ARITHMETIC:
+        raise ValueError(f"arithmetic: expected one of {ARITHMETIC}, got {arithmetic!r}")
+
+
+def vertex_face_ccd(v_t0, f0_t0, f1_t0, f2_t0, v_t1, f0_t1, f1_t1, f2_t1, arithmetic: str = "exact") -> bool:
+    """Does vertex v touch the closed triangle (f0, f1, f2) at some t in [0, 1], every point
+    moving linearly from its t0 to its t1 position? Each argument is 3 coordinates."""
+    _check_arithmetic(arithmetic)
+    names = ("v_t0", "f0_t0", "f1_t0", "f2_t0", "v_t1", "f0_t1", "f1_t1", "f2_t1")
+    pts = [_as_point(x, n) for x, n in zip((v_t0, f0_t0, f1_t0, f2_t0, v_t1, f0_t1, f1_t1, f2_t1), names)]
+    return bool(_core.ccd.vertex_face_ccd_rows(*pts, arithmetic)[0])
+
+
+def edge_edge_ccd(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1, arithmetic: str = "exact") -> bool:
+    """Do the closed edges (ea0, ea1) and (eb0, eb1) touch at some t in [0, 1], every point moving
+    linearly from its t0 to its t1 position? Each argument is 3 coordinates."""
+    _check_arithmetic(arithmetic)
+    names = ("ea0_t0", "ea1_t0", "eb0_t0", "eb1_t0", "ea0_t1", "ea1_t1", "eb0_t1", "eb1_t1")
+    pts = [_as_point(x, n) for x, n in zip((ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1), names)]
+    return bool(_core.ccd.edge_edge_ccd_rows(*pts, arithmetic)[0])
