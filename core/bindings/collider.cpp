@@ -144,6 +144,15 @@ void bind_collider(py::module_& m) {
                 st["ee_contacts"] = c.ee_contacts;
                 st["seconds_pairs"] = c.seconds_pairs;
                 st["arithmetic"] = arithmetic;
+                if (mode == Arithmetic::kExact) {
+                    py::dict e;
+                    e["filtered"] = c.exact_paths.filtered;
+                    e["static_contact"] = c.exact_paths.static_contact;
+                    e["proven_contact"] = c.exact_paths.proven_contact;
+                    e["deep_filtered"] = c.exact_paths.deep_filtered;
+                    e["exact_engine"] = c.exact_paths.exact_engine;
+                    st["exact_paths"] = e;
+                }
                 return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st);
             },
             py::arg("V0"), py::arg("V1"), py::arg("arithmetic"),

@@ -199,6 +199,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     st.seconds_pairs = seconds_since(t0);
 
     t0 = Clock::now();
+    exact_path_counts() = {};
     const int32_t* E = topo_->edges.data();
     for (const uint64_t key : vf_keys) {
         const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
@@ -228,6 +229,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
                           load(V1, d), arithmetic))
             res.ee.emplace_back(ea, eb);
     }
+    st.exact_paths = exact_path_counts();
     std::sort(res.vf.begin(), res.vf.end());
     std::sort(res.ee.begin(), res.ee.end());
     st.elementary_tests = st.vf_tests + st.ee_tests;

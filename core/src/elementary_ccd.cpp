@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "conecull/elementary/triangle_triangle.hpp"
 #include "conecull/predicates/orient.hpp"
 
 namespace conecull {
@@ -79,6 +80,73 @@ double max_abs(std::initializer_list<Vec3> vs) {
     double s = 0.0;
     for (const Vec3& v : vs) s = std::max({s, std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
     return s;
+}
+
+// ---- certified contact: Miranda's theorem on a small box around an approximate root --------
+//
+// G = M F with M an approximate inverse of the Jacobian of F at an approximate root. If, on a
+// box B inside the domain, each G_k is <= 0 on the face x_k = low and >= 0 on the face
+// x_k = high (or the reverse), G has a zero in B (Miranda), and so does F when M is
+// invertible: a contact, proven with floating point only. G_k is multilinear like F, so its
+// range on a face lies between the face's corner values; every value carries a rigorous error
+// bound. Failing to prove is never an answer: the caller falls back to the exact decision.
+bool miranda_contact(const MovingTerms& m, bool triangle_domain, double t, double u, double v) {
+    // Jacobian of F(t, u, v) = P(t) + u U(t) + v W(t) at the estimate.
+    const Vec3 dP = m.P1 - m.P0, dU = m.U1 - m.U0, dW = m.W1 - m.W0;
+    const Vec3 Ft = dP + u * dU + v * dW, Fu = m.U0 + t * dU, Fv = m.W0 + t * dW;
+    // M = J^-1 with J = [Ft Fu Fv] (columns): rows of M are cross products / det.
+    const Vec3 r0 = cross(Fu, Fv), r1 = cross(Fv, Ft), r2 = cross(Ft, Fu);
+    const double det = dot(Ft, r0);
+    if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) return false;
+    const Vec3 M[3] = {(1.0 / det) * r0, (1.0 / det) * r1, (1.0 / det) * r2};
+    // M must be invertible: its determinant, with a rigorous bound, must be non-zero.
+    {
+        const double m1 = M[1].y * M[2].z, m2 = M[1].z * M[2].y, m3 = M[1].z * M[2].x, m4 = M[1].x * M[2].z,
+                     m5 = M[1].x * M[2].y, m6 = M[1].y * M[2].x;
+        const double dm = M[0].x * (m1 - m2) + M[0].y * (m3 - m4) + M[0].z * (m5 - m6);
+        const double pm = std::fabs(M[0].x) * (std::fabs(m1) + std::fabs(m2)) + std::fabs(M[0].y) * (std::fabs(m3) + std::fabs(m4)) +
+                          std::fabs(M[0].z) * (std::fabs(m5) + std::fabs(m6));
+        if (!(std::fabs(dm) > 16.0 * kEps * pm)) return false;
+    }
+    // Box radius: at most 1e-6, and small enough to keep the box inside the domain.
+    double rad = std::min({1e-6, 0.5 * t, 0.5 * (1.0 - t), 0.5 * u, 0.5 * v,
+                           triangle_domain ? 0.25 * (1.0 - u - v) : 0.5 * (1.0 - u), triangle_domain ? 1.0 : 0.5 * (1.0 - v)});
+    if (!(rad > 1e-11)) return false;
+    const double lo[3] = {t - rad, u - rad, v - rad}, hi[3] = {t + rad, u + rad, v + rad};
+    for (int k = 0; k < 3; ++k)
+        if (lo[k] < 0.0 || hi[k] > 1.0) return false;
+    if (triangle_domain && !(hi[1] + hi[2] <= 1.0 - 1e-12)) return false;
+    const double errF = 256.0 * kEps * m.scale;
+    const double rowsum[3] = {std::fabs(M[0].x) + std::fabs(M[0].y) + std::fabs(M[0].z),
+                              std::fabs(M[1].x) + std::fabs(M[1].y) + std::fabs(M[1].z),
+                              std::fabs(M[2].x) + std::fabs(M[2].y) + std::fabs(M[2].z)};
+    // G_k at a point, with its error: |M_k . (F_exact - F_computed)| <= rowsum errF, plus the
+    // roundings of the dot product (3 products, 2 sums) below 4 eps sum |M_kj F_j|.
+    auto G_bounds = [&](int k, double tt, double uu, double vv, double& g, double& e) {
+        const Vec3 f = corner_value(m, tt, uu, vv);
+        g = dot(M[k], f);
+        e = rowsum[k] * errF + 4.0 * kEps * (std::fabs(M[k].x * f.x) + std::fabs(M[k].y * f.y) + std::fabs(M[k].z * f.z));
+        e *= 1.0 + 1e-10;
+    };
+    for (int k = 0; k < 3; ++k) {
+        int face_sign[2] = {0, 0};
+        for (int side = 0; side < 2; ++side) {
+            double mn = INFINITY, mx = -INFINITY;
+            for (int c = 0; c < 4; ++c) {  // the 4 corners of the face x_k = lo / hi
+                double x[3];
+                x[k] = side ? hi[k] : lo[k];
+                x[(k + 1) % 3] = c & 1 ? hi[(k + 1) % 3] : lo[(k + 1) % 3];
+                x[(k + 2) % 3] = c & 2 ? hi[(k + 2) % 3] : lo[(k + 2) % 3];
+                double g, e;
+                G_bounds(k, x[0], x[1], x[2], g, e);
+                mn = std::min(mn, g - e);
+                mx = std::max(mx, g + e);
+            }
+            face_sign[side] = mn > 0.0 ? 1 : (mx < 0.0 ? -1 : 0);
+        }
+        if (face_sign[0] == 0 || face_sign[1] == 0 || face_sign[0] == face_sign[1]) return false;
+    }
+    return true;
 }
 
 // ---- float: roots of the coplanarity cubic, then a proximity check with epsilons ------------
@@ -182,11 +250,41 @@ double segment_segment_distance(const Vec3& p1, const Vec3& q1, const Vec3& p2, 
     return norm((p1 + s * d1) - (p2 + t * d2));
 }
 
+// Least-squares (u, v) with p ~ a + u (b - a) + v (c - a); false if the face is degenerate.
+bool barycentric_estimate(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c, double& u, double& v) {
+    const Vec3 e1 = b - a, e2 = c - a, w = p - a;
+    const double d11 = dot(e1, e1), d12 = dot(e1, e2), d22 = dot(e2, e2), d1 = dot(e1, w), d2 = dot(e2, w);
+    const double den = d11 * d22 - d12 * d12;
+    if (!(den > 0.0)) return false;
+    u = (d22 * d1 - d12 * d2) / den;
+    v = (d11 * d2 - d12 * d1) / den;
+    return std::isfinite(u) && std::isfinite(v);
+}
+
+// (u, v) with a + u (b - a) ~ c + v (d - c) (closest points of the lines); false if parallel.
+bool segment_parameters(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, double& u, double& v) {
+    const Vec3 d1 = b - a, d2 = d - c, r = a - c;
+    const double A = dot(d1, d1), B = dot(d1, d2), C = dot(d2, d2), D = dot(d1, r), E = dot(d2, r);
+    const double den = A * C - B * B;
+    if (!(den > 0.0)) return false;
+    u = (B * E - C * D) / den;
+    v = (A * E - B * D) / den;
+    return std::isfinite(u) && std::isfinite(v);
+}
+
 constexpr double kFloatTolerance = 1e-9;  // relative to the size of the configuration
 
-constexpr CcdOptions kFilter{10, 2000};  // a quick conservative filter before the exact decision
+// Exact mode runs a shallow conservative filter, then the cheap proofs of contact, then a
+// deeper filter, and only then the exact decision (measured order; see `conecull bench ccd`).
+constexpr CcdOptions kFilter{6, 300};
+constexpr CcdOptions kDeepFilter{14, 4000};
 
 }  // namespace
+
+ExactPathCounts& exact_path_counts() {
+    thread_local ExactPathCounts counts;
+    return counts;
+}
 
 // exact_ccd.cpp
 bool vertex_face_ccd_exact(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
@@ -211,8 +309,28 @@ bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3&
                 return true;
         return false;
     }
-    // exact: the conservative filter never misses, so its "no" is final; its "maybe" is decided exactly.
-    if (!vertex_face_ccd(p0, a0, b0, c0, p1, a1, b1, c1, Arithmetic::kConservative, kFilter)) return false;
+    // exact: the conservative filter never misses, so its "no" is final; a contact proven by
+    // Miranda's theorem is final too; the rest is decided exactly.
+    ExactPathCounts& counts = exact_path_counts();
+    if (!vertex_face_ccd(p0, a0, b0, c0, p1, a1, b1, c1, Arithmetic::kConservative, kFilter)) return ++counts.filtered, false;
+    // Contact at t = 0 or t = 1: exact static predicates.
+    if (segment_meets_triangle(p0, p0, a0, b0, c0) || segment_meets_triangle(p1, p1, a1, b1, c1))
+        return ++counts.static_contact, true;
+    {
+        MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
+        m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
+        const Vec3 ba0 = b0 - a0, ca0 = c0 - a0, pa0 = p0 - a0;
+        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, ca0, (c1 - a1) - ca0, pa0, (p1 - a1) - pa0);
+        for (double t : candidate_times(cubic)) {
+            double u, v;
+            if (barycentric_estimate(lerp(p0, p1, t), lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), u, v) &&
+                miranda_contact(m, true, t, u, v))
+                return ++counts.proven_contact, true;
+        }
+    }
+    if (!vertex_face_ccd(p0, a0, b0, c0, p1, a1, b1, c1, Arithmetic::kConservative, kDeepFilter))
+        return ++counts.deep_filtered, false;
+    ++counts.exact_engine;
     return vertex_face_ccd_exact(p0, a0, b0, c0, p1, a1, b1, c1);
 }
 
@@ -233,7 +351,24 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
                 return true;
         return false;
     }
-    if (!edge_edge_ccd(a0, b0, c0, d0, a1, b1, c1, d1, Arithmetic::kConservative, kFilter)) return false;
+    ExactPathCounts& counts = exact_path_counts();
+    if (!edge_edge_ccd(a0, b0, c0, d0, a1, b1, c1, d1, Arithmetic::kConservative, kFilter)) return ++counts.filtered, false;
+    if (segment_meets_segment(a0, b0, c0, d0) || segment_meets_segment(a1, b1, c1, d1)) return ++counts.static_contact, true;
+    {
+        MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
+        m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
+        const Vec3 ba0 = b0 - a0, dc0 = d0 - c0, ca0 = c0 - a0;
+        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, dc0, (d1 - c1) - dc0, ca0, (c1 - a1) - ca0);
+        for (double t : candidate_times(cubic)) {
+            double u, v;
+            if (segment_parameters(lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), lerp(d0, d1, t), u, v) &&
+                miranda_contact(m, false, t, u, v))
+                return ++counts.proven_contact, true;
+        }
+    }
+    if (!edge_edge_ccd(a0, b0, c0, d0, a1, b1, c1, d1, Arithmetic::kConservative, kDeepFilter))
+        return ++counts.deep_filtered, false;
+    ++counts.exact_engine;
     return edge_edge_ccd_exact(a0, b0, c0, d0, a1, b1, c1, d1);
 }
 

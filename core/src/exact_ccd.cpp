@@ -160,6 +160,14 @@ struct Point {
 
     int sign(const Poly& q) {
         if (q.empty()) return 0;
+        // Usually q keeps one sign near the root: a few bisections show it without any gcd.
+        for (int i = 0; i < 12; ++i) {
+            if (rational) return eval(q, t).sign();
+            int s = 0;
+            variations(q, lo, hi, &s);
+            if (s != 0) return s;
+            bisect();
+        }
         if (rational) return eval(q, t).sign();
         const Poly g = gcd(h, q);
         if (degree(g) >= 1) {

@@ -34,6 +34,7 @@ struct CcdStats : DcdStats {
     int64_t vf_tests = 0, ee_tests = 0;            // elementary tests run
     int64_t vf_contacts = 0, ee_contacts = 0;
     double seconds_pairs = 0;                      // building the unique VF / EE pairs
+    ExactPathCounts exact_paths;                   // arithmetic "exact": how each pair was decided
 };
 
 struct CcdResult {

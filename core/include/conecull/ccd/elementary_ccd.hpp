@@ -17,6 +17,8 @@
 //                  answer for the given doubles.
 #pragma once
 
+#include <cstdint>
+
 #include "conecull/vec3.hpp"
 
 namespace conecull {
@@ -27,6 +29,16 @@ struct CcdOptions {
     int max_depth = 24;          // subdivisions per parameter: boxes below 2^-24 stay "contact"
     int max_boxes = 20000;       // budget per query; exceeded -> "contact" (conservative)
 };
+
+// How exact-mode decisions were reached (per thread; the collider resets and reports them).
+struct ExactPathCounts {
+    int64_t filtered = 0;        // excluded by the shallow conservative filter
+    int64_t static_contact = 0;  // contact at t = 0 or t = 1 (exact static predicates)
+    int64_t proven_contact = 0;  // contact proven by Miranda's theorem
+    int64_t deep_filtered = 0;   // excluded by the deeper conservative filter
+    int64_t exact_engine = 0;    // decided by exact root isolation
+};
+ExactPathCounts& exact_path_counts();
 
 // Vertex p moving p0 -> p1 against the face (a, b, c) moving (a0, b0, c0) -> (a1, b1, c1).
 bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1, const Vec3& a1,
