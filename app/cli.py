@@ -21,6 +21,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
     p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
     p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
+    p.add_argument("--ccd", action="store_true", help="continuous: frame k shows the step from frame k to k + 1")
+    p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
+                   help="CCD arithmetic (default exact)")
 
     p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
@@ -75,8 +78,10 @@ def _run(args) -> int:
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
-                       progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None)
-        print(f"wrote {args.out}: {len(stats)} frames, {len(F)} triangles, method {args.method}; "
+                       progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
+                       arithmetic=args.arithmetic)
+        kind = f"CCD steps ({args.arithmetic})" if args.ccd else "frames"
+        print(f"wrote {args.out}: {len(stats)} {kind}, {len(F)} triangles, method {args.method}; "
               f"open it with: rerun {args.out}")
         return 0
     if args.command == "view":

@@ -49,6 +49,20 @@ def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, 
     return head + explain(code, edge, crossings) + "."
 
 
+def colliding_faces(col, res) -> np.ndarray:
+    """Faces to paint as colliding: both faces of each DCD pair; for CCD, the face of each VF
+    contact and the faces around its vertex, and the faces of both edges of each EE contact."""
+    if not hasattr(res, "vf"):
+        return res.pairs.ravel()
+    mesh = col.mesh
+    voff, vids = mesh.vertex_faces
+    eoff, eids = mesh.edge_faces
+    out = [res.vf[:, 1]]
+    out += [vids[voff[v] : voff[v + 1]] for v in res.vf[:, 0]]
+    out += [eids[eoff[e] : eoff[e + 1]] for e in res.ee.ravel()]
+    return np.unique(np.concatenate(out)) if out else np.zeros(0, np.int64)
+
+
 def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     tr = res.trace
     bvh = col.bvh_arrays()
@@ -65,8 +79,9 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
         events.append((depth[node], CULLED if code == 0 else CONTOUR_FAILED, node))
     for _, st, node in sorted(events):
         status[order[begin[node] : end[node]]] = st
-    if len(res.pairs):
-        status[res.pairs.ravel()] = COLLIDING
+    hit = colliding_faces(col, res)
+    if len(hit):
+        status[hit] = COLLIDING
 
     fail = (tr.contour["reason"] > 0) & (tr.contour["reason"] < 16)
     cnodes = tr.contour["node"][fail]

@@ -9,6 +9,8 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/bvh              Boxes3D, BVH nodes at the chosen depth
   /stats/...              Scalars: tests, verdicts by reason, collisions, ms per stage
   /log                    TextLog: one plain sentence per failing node
+  /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end)
+For CCD recordings frame k shows the step from frame k to frame k + 1.
 """
 
 from __future__ import annotations
@@ -49,6 +51,7 @@ class RerunRecorder:
         self.rec.log("/legend", rr.TextDocument("Face colours\n" + legend, media_type=rr.MediaType.MARKDOWN), static=True)
 
     def log_frame(self, frame: int, col, V: np.ndarray, res) -> L.FrameLayers:
+        """One DCD frame, or one CCD step (res a CcdResult; V its end pose)."""
         rec = self.rec
         lay = L.compute(col, self.faces, V, res)
         rec.set_time("frame", sequence=frame)
@@ -68,6 +71,11 @@ class RerunRecorder:
         rec.log("/scene/bvh", rr.Boxes3D(centers=0.5 * (lo + hi), half_sizes=0.5 * (hi - lo), colors=[[120, 120, 200]],
                                           fill_mode=rr.components.FillMode.MajorWireframe))
 
+        if hasattr(res, "vf"):  # CCD: the contacts of the step
+            rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0))
+            E = col.mesh.edges
+            strips = [V[E[e]] for e in res.ee.ravel()]
+            rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0))
         s = res.stats
         rec.log("/stats/tests/cone", rr.Scalars(s["cone_tests"]))
         rec.log("/stats/tests/contour", rr.Scalars(s["contour_tests"]))
@@ -78,6 +86,10 @@ class RerunRecorder:
             rec.log(f"/stats/verdict/contour_{name}", rr.Scalars(count))
         rec.log("/stats/verdict/ineligible", rr.Scalars(s["contour_ineligible"]))
         rec.log("/stats/collisions", rr.Scalars(s["colliding_pairs"]))
+        if hasattr(res, "vf"):
+            rec.log("/stats/ccd/vf_contacts", rr.Scalars(s["vf_contacts"]))
+            rec.log("/stats/ccd/ee_contacts", rr.Scalars(s["ee_contacts"]))
+            rec.log("/stats/ccd/npf_culled", rr.Scalars(s["npf_culled"]))
         for stage in ("refit", "traversal", "elementary"):
             rec.log(f"/stats/ms/{stage}", rr.Scalars(1e3 * s[f"seconds_{stage}"]))
 
@@ -93,20 +105,29 @@ class RerunRecorder:
 
 
 def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, recording_id: str | None = None,
-           bvh_depth: int = 4, progress=None) -> list:
-    """Record a sequence; returns the per-frame stats. The BVH is built from frames[0]."""
+           bvh_depth: int = 4, progress=None, ccd: bool = False, arithmetic: str = "exact") -> list:
+    """Record a sequence; returns the per-frame stats. The BVH is built from frames[0].
+    With ccd=True, frame k shows the CCD step from frame k to k + 1 (the last frame has no step)."""
     import conecull
 
     mesh = conecull.Mesh(faces, n_vertices=frames.shape[1])
     col = conecull.SelfCollider(mesh, method=method)
     col.dcd(frames[0])  # node ids depend only on the first pose: stable across commands
     frame_range = range(len(frames)) if frame_range is None else frame_range
+    if ccd:
+        frame_range = [k for k in frame_range if k + 1 < len(frames)]
+        if not frame_range:
+            raise ValueError("--frames: CCD needs at least two frames (a step from frame k to k + 1)")
     rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth)
     out = []
     try:
         for i, k in enumerate(frame_range):
-            res = col.dcd(frames[k], trace=True)
-            rec.log_frame(k, col, frames[k], res)
+            if ccd:
+                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic, trace=True)
+                rec.log_frame(k, col, frames[k + 1], res)
+            else:
+                res = col.dcd(frames[k], trace=True)
+                rec.log_frame(k, col, frames[k], res)
             out.append(res.stats)
             if progress:
                 progress(i + 1, len(frame_range))

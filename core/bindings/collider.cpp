@@ -68,6 +68,10 @@ py::dict trace_dict(const RecordingTracer& t) {
     d["level_overlaps"] = to_numpy(t.level_overlaps);
     d["elementary_pair"] = to_numpy(t.elementary_pair, 2);
     d["elementary_result"] = to_numpy(t.elementary_result).attr("astype")("bool");
+    d["vf_pair"] = to_numpy(t.vf_pair, 2);
+    d["vf_result"] = to_numpy(t.vf_result).attr("astype")("bool");
+    d["ee_pair"] = to_numpy(t.ee_pair, 2);
+    d["ee_result"] = to_numpy(t.ee_result).attr("astype")("bool");
     return d;
 }
 
@@ -122,16 +126,17 @@ void bind_collider(py::module_& m) {
             "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).")
         .def(
             "ccd",
-            [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic) {
+            [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace) {
                 const int32_t n = self.collider.topology().n_vertices;
                 require_shape(V0, "V0", n, 3);
                 require_shape(V1, "V1", n, 3);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
+                RecordingTracer tracer;
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.ccd(V0.data(), V1.data(), mode);
+                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr);
                 }
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
@@ -153,10 +158,11 @@ void bind_collider(py::module_& m) {
                     e["exact_engine"] = c.exact_paths.exact_engine;
                     st["exact_paths"] = e;
                 }
-                return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st);
+                py::object tr = trace ? py::object(trace_dict(tracer)) : py::object(py::none());
+                return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st, tr);
             },
-            py::arg("V0"), py::arg("V1"), py::arg("arithmetic"),
-            "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict).")
+            py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false,
+            "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })

@@ -113,23 +113,37 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 
 }  // namespace
 
-CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic) {
+CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer) {
     CcdResult res;
-    CcdStats& st = res.stats;
     auto t0 = Clock::now();
     if (!built_) build(V0);
     refit_boxes_ccd(bvh_, *topo_, V0, V1);
     if (method_ == Method::kNc) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
-    st.seconds_refit = seconds_since(t0);
+    res.stats.seconds_refit = seconds_since(t0);
+#ifdef CONECULL_NO_TRACE_HOOKS
+    tracer = nullptr;
+#endif
+    if (tracer) {
+        tracer->reserve(bvh_);
+        ccd_traverse_and_test(V0, V1, arithmetic, *tracer, res);
+    } else {
+        NullTracer null;
+        ccd_traverse_and_test(V0, V1, arithmetic, null, res);
+    }
+    return res;
+}
 
-    t0 = Clock::now();
+template <class Tracer>
+void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer,
+                                         CcdResult& res) {
+    CcdStats& st = res.stats;
+    auto t0 = Clock::now();
     candidates_.clear();
-    NullTracer tracer;
     const Continuous motion{V0, V1};
     if (method_ == Method::kNc)
-        SelfCollideTraversal<true, NullTracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+        SelfCollideTraversal<true, Tracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
     else
-        SelfCollideTraversal<false, NullTracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+        SelfCollideTraversal<false, Tracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
     st.seconds_traversal = seconds_since(t0);
 
     // Low-level culling: every VF / EE pair of the candidate triangle pairs whose primitives'
@@ -211,9 +225,10 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
             continue;
         }
         ++st.vf_tests;
-        if (vertex_face_ccd(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v), load(V1, t[0]),
-                            load(V1, t[1]), load(V1, t[2]), arithmetic))
-            res.vf.emplace_back(v, f);
+        const bool hit = vertex_face_ccd(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v),
+                                         load(V1, t[0]), load(V1, t[1]), load(V1, t[2]), arithmetic);
+        if constexpr (kTraceHooks<Tracer>) tracer.on_vf(v, f, hit);
+        if (hit) res.vf.emplace_back(v, f);
     }
     for (const uint64_t key : ee_keys) {
         const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
@@ -225,9 +240,10 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
             continue;
         }
         ++st.ee_tests;
-        if (edge_edge_ccd(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b), load(V1, c),
-                          load(V1, d), arithmetic))
-            res.ee.emplace_back(ea, eb);
+        const bool hit = edge_edge_ccd(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b),
+                                       load(V1, c), load(V1, d), arithmetic);
+        if constexpr (kTraceHooks<Tracer>) tracer.on_ee(ea, eb, hit);
+        if (hit) res.ee.emplace_back(ea, eb);
     }
     st.exact_paths = exact_path_counts();
     std::sort(res.vf.begin(), res.vf.end());
@@ -237,7 +253,6 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     st.ee_contacts = static_cast<int64_t>(res.ee.size());
     st.colliding_pairs = st.vf_contacts + st.ee_contacts;
     st.seconds_elementary = seconds_since(t0);
-    return res;
 }
 
 }  // namespace conecull

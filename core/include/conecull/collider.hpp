@@ -52,7 +52,7 @@ class SelfCollider {
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
-    CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic);
+    CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr);
 
     bool built() const { return built_; }
     Method method() const { return method_; }
@@ -65,6 +65,8 @@ class SelfCollider {
     void build(const double* V);
     template <class Tracer>
     void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res);
+    template <class Tracer>
+    void ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer, CcdResult& res);
 
     std::shared_ptr<const Topology> topo_;
     Method method_;

@@ -50,9 +50,17 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("pairs", "int64", (), "count", "node pairs visited"),
             Field("overlaps", "int64", (), "count", "of which the boxes overlapped"),
         )),
-        EventKind("elementary", "Exact triangle-triangle tests of the candidate pairs.", (
+        EventKind("elementary", "Exact triangle-triangle tests of the candidate pairs (DCD).", (
             Field("pair", "int32", (2,), "face ids", "the two triangles, i < j"),
             Field("result", "bool", (), "", "they collide"),
+        )),
+        EventKind("vf", "Vertex-face CCD tests that passed the low-level filters (CCD).", (
+            Field("pair", "int32", (2,), "(vertex id, face id)", "the vertex and the face"),
+            Field("result", "bool", (), "", "they touch during the step"),
+        )),
+        EventKind("ee", "Edge-edge CCD tests that passed the low-level filters (CCD).", (
+            Field("pair", "int32", (2,), "edge ids", "the two edges (ids of Mesh.edges)"),
+            Field("result", "bool", (), "", "they touch during the step"),
         )),
     )
 }
@@ -91,7 +99,9 @@ class Trace:
         self.contour = {f.name: raw["contour_" + f.name] for f in EVENT_KINDS["contour"].fields}
         self.level = {"pairs": raw["level_pairs"], "overlaps": raw["level_overlaps"]}
         self.elementary = {"pair": raw["elementary_pair"], "result": raw["elementary_result"]}
-        for kind in ("cone", "contour", "level", "elementary"):
+        self.vf = {"pair": raw["vf_pair"], "result": raw["vf_result"]}
+        self.ee = {"pair": raw["ee_pair"], "result": raw["ee_result"]}
+        for kind in EVENT_KINDS:
             table = getattr(self, kind)
             for f in EVENT_KINDS[kind].fields:
                 a = table[f.name]
@@ -110,9 +120,13 @@ class Trace:
         return out
 
     def counts(self) -> dict[str, int]:
-        c = {"cone_tests": len(self.cone["node"]), "cone_passed": int(self.cone["bounded"].sum()),
-             "elementary_tests": len(self.elementary["result"]),
-             "colliding_pairs": int(self.elementary["result"].sum())}
+        c = {"cone_tests": len(self.cone["node"]), "cone_passed": int(self.cone["bounded"].sum())}
+        if len(self.vf["result"]) or len(self.ee["result"]):
+            c["vf_tests"], c["ee_tests"] = len(self.vf["result"]), len(self.ee["result"])
+            c["vf_contacts"], c["ee_contacts"] = int(self.vf["result"].sum()), int(self.ee["result"].sum())
+        else:
+            c["elementary_tests"] = len(self.elementary["result"])
+            c["colliding_pairs"] = int(self.elementary["result"].sum())
         r = self.contour["reason"]
         c["contour_ineligible"] = int((r >= 16).sum())
         c["contour_tests"] = int((r < 16).sum())

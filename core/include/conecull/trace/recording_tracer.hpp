@@ -36,6 +36,9 @@ struct RecordingTracer {
     // elementary tests
     std::vector<int32_t> elementary_pair;  // 2 per event
     std::vector<uint8_t> elementary_result;
+    // CCD elementary tests: vertex-face (vertex, face) and edge-edge (edge a, edge b)
+    std::vector<int32_t> vf_pair, ee_pair;  // 2 per event
+    std::vector<uint8_t> vf_result, ee_result;
 
     const Bvh* bvh = nullptr;
 
@@ -74,6 +77,16 @@ struct RecordingTracer {
         const int32_t d = std::max(bvh->nodes[a].depth, bvh->nodes[b].depth);
         ++level_pairs[d];
         level_overlaps[d] += overlap;
+    }
+    void on_vf(int32_t v, int32_t f, bool result) {
+        vf_pair.push_back(v);
+        vf_pair.push_back(f);
+        vf_result.push_back(result);
+    }
+    void on_ee(int32_t a, int32_t b, bool result) {
+        ee_pair.push_back(a);
+        ee_pair.push_back(b);
+        ee_result.push_back(result);
     }
     void on_elementary(int32_t i, int32_t j, bool result) {
         elementary_pair.push_back(i);
