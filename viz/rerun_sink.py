@@ -72,10 +72,14 @@ class RerunRecorder:
                                           fill_mode=rr.components.FillMode.MajorWireframe))
 
         if hasattr(res, "vf"):  # CCD: the contacts of the step
-            rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0))
+            n_vf = len(res.vf)
+            toi = res.toi if res.toi is not None else np.full(n_vf + len(res.ee), np.nan)
+            rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0,
+                                                     labels=[f"t>={t:.3f}" for t in toi[:n_vf]]))
             E = col.mesh.edges
-            strips = [V[E[e]] for e in res.ee.ravel()]
-            rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0))
+            strips = [np.vstack([V[E[a]], V[E[b]][::-1]]) for a, b in res.ee]  # both edges of a pair
+            rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0,
+                                                         labels=[f"t>={t:.3f}" for t in toi[n_vf:]]))
         s = res.stats
         rec.log("/stats/tests/cone", rr.Scalars(s["cone_tests"]))
         rec.log("/stats/tests/contour", rr.Scalars(s["contour_tests"]))
@@ -123,7 +127,7 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
     try:
         for i, k in enumerate(frame_range):
             if ccd:
-                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic, trace=True)
+                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic, trace=True, toi=True)
                 rec.log_frame(k, col, frames[k + 1], res)
             else:
                 res = col.dcd(frames[k], trace=True)

@@ -126,7 +126,8 @@ void bind_collider(py::module_& m) {
             "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).")
         .def(
             "ccd",
-            [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace) {
+            [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace,
+               bool toi) {
                 const int32_t n = self.collider.topology().n_vertices;
                 require_shape(V0, "V0", n, 3);
                 require_shape(V1, "V1", n, 3);
@@ -136,7 +137,7 @@ void bind_collider(py::module_& m) {
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr);
+                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi);
                 }
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
@@ -159,9 +160,10 @@ void bind_collider(py::module_& m) {
                     st["exact_paths"] = e;
                 }
                 py::object tr = trace ? py::object(trace_dict(tracer)) : py::object(py::none());
-                return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st, tr);
+                py::object t = toi ? py::object(to_numpy(res.toi)) : py::object(py::none());
+                return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st, tr, t);
             },
-            py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false,
+            py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false, py::arg("toi") = false,
             "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })

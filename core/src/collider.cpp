@@ -113,7 +113,8 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 
 }  // namespace
 
-CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer) {
+CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer,
+                            bool want_toi) {
     CcdResult res;
     auto t0 = Clock::now();
     if (!built_) build(V0);
@@ -129,6 +130,20 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     } else {
         NullTracer null;
         ccd_traverse_and_test(V0, V1, arithmetic, null, res);
+    }
+    if (want_toi) {
+        const int32_t* F = topo_->faces.data();
+        const int32_t* E = topo_->edges.data();
+        for (const auto& [v, f] : res.vf) {
+            const int32_t* t = F + 3 * static_cast<size_t>(f);
+            res.toi.push_back(vertex_face_toi_lower_bound(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]),
+                                                          load(V1, v), load(V1, t[0]), load(V1, t[1]), load(V1, t[2])));
+        }
+        for (const auto& [ea, eb] : res.ee) {
+            const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
+            res.toi.push_back(edge_edge_toi_lower_bound(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a),
+                                                        load(V1, b), load(V1, c), load(V1, d)));
+        }
     }
     return res;
 }

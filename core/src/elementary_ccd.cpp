@@ -37,19 +37,23 @@ inline Vec3 corner_value(const MovingTerms& m, double t, double u, double v) {
     return P + u * U + v * W;
 }
 
-bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptions& opt) {
+bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptions& opt, double* first_t = nullptr) {
     // |P|, |U|, |W| <= scale at t = 0, 1, so every intermediate is below 9 scale (|t|, |u|,
     // |v| <= 1). Each of the ~10 roundings on the longest chain adds at most eps * 9 scale, and
     // the rounded input differences (relative error eps) carry at most 9 eps scale through the
     // multilinear form: < 100 eps scale in all; 256 eps scale is the bound used.
     const double err = 256.0 * kEps * m.scale;
+    // Depth-first for a yes/no answer; ordered by t0 when the first contact time is wanted
+    // (then every box with a smaller t0 has been excluded when one is reported).
     std::vector<Box> stack;
     stack.push_back({0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0});
+    const auto later = [](const Box& p, const Box& q) { return p.t0 > q.t0 || (p.t0 == q.t0 && p.depth < q.depth); };
     int boxes = 0;
     while (!stack.empty()) {
+        if (first_t) std::pop_heap(stack.begin(), stack.end(), later);
         const Box b = stack.back();
         stack.pop_back();
-        if (++boxes > opt.max_boxes) return true;
+        ++boxes;
         if (triangle_domain && b.u0 + b.v0 > 1.0) continue;  // dyadic sums: exact
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (int c = 0; c < 8; ++c) {
@@ -62,7 +66,10 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         bool excluded = false;
         for (int k = 0; k < 3; ++k) excluded |= lo[k] - err > 0.0 || hi[k] + err < 0.0;
         if (excluded) continue;
-        if (b.depth >= 3 * opt.max_depth) return true;  // undecided at the tolerance: contact
+        if (b.depth >= 3 * opt.max_depth || boxes >= opt.max_boxes) {  // undecided at the tolerance: contact
+            if (first_t) *first_t = b.t0;  // the smallest t0 of all boxes left: no contact before it
+            return true;
+        }
         // Split the parameter that was split least (round robin keeps boxes cubical).
         const int axis = b.depth % 3;
         Box l = b, r = b;
@@ -71,7 +78,9 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         if (axis == 1) l.u1 = r.u0 = 0.5 * (b.u0 + b.u1);
         if (axis == 2) l.v1 = r.v0 = 0.5 * (b.v0 + b.v1);
         stack.push_back(r);
-        stack.push_back(l);  // earlier t first
+        if (first_t) std::push_heap(stack.begin(), stack.end(), later);
+        stack.push_back(l);  // depth-first: the earlier (or lower) half first
+        if (first_t) std::push_heap(stack.begin(), stack.end(), later);
     }
     return false;
 }
@@ -370,6 +379,22 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
         return ++counts.deep_filtered, false;
     ++counts.exact_engine;
     return edge_edge_ccd_exact(a0, b0, c0, d0, a1, b1, c1, d1);
+}
+
+double vertex_face_toi_lower_bound(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
+                                   const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
+    m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
+    double t = 1.0;
+    return inclusion_search(m, true, CcdOptions{20, 20000}, &t) ? t : 1.0;
+}
+
+double edge_edge_toi_lower_bound(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                                 const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
+    m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
+    double t = 1.0;
+    return inclusion_search(m, false, CcdOptions{20, 20000}, &t) ? t : 1.0;
 }
 
 }  // namespace conecull

@@ -74,3 +74,23 @@ def test_public_scalar_functions_and_errors():
         conecull.vertex_face_ccd([np.nan, 0, 0], *T, [0, 0, 0], *T)
     with pytest.raises(ValueError, match="arithmetic: expected one of"):
         conecull.edge_edge_ccd(*([[0, 0, 0]] * 8), arithmetic="double")
+
+
+def test_toi_is_a_lower_bound_on_the_earliest_contact():
+    """A small triangle falling tip first onto a face at known times: toi <= the earliest
+    contact of the tip, and close to it."""
+    import conecull
+
+    F = np.array([[0, 1, 2], [3, 4, 5]])
+    tri = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    for z0, z1 in ((1.0, -1.0), (0.75, -0.25), (3.0, 0.0), (0.0, 5.0)):
+        tip0, tip1 = np.array([0.2, 0.2, z0]), np.array([0.2, 0.2, z1])
+        up = np.array([[0, 0, 0], [0.05, 0, 0.5], [0, 0.05, 0.5]])
+        V0 = np.vstack([tri, tip0 + up])
+        V1 = np.vstack([tri, tip1 + up])
+        res = conecull.SelfCollider(conecull.Mesh(F)).ccd(V0, V1, toi=True)
+        rows = res.vf.tolist()
+        assert [3, 0] in rows
+        t_true = z0 / (z0 - z1)
+        t = res.toi[rows.index([3, 0])]
+        assert t <= t_true and t_true - t < 1e-5

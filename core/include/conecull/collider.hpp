@@ -40,6 +40,8 @@ struct CcdStats : DcdStats {
 struct CcdResult {
     std::vector<std::pair<int32_t, int32_t>> vf;  // (vertex, face), sorted
     std::vector<std::pair<int32_t, int32_t>> ee;  // (edge a, edge b), a < b, sorted
+    std::vector<double> toi;                       // if asked: per vf row then ee row, a lower bound
+                                                   // on the earliest contact time
     CcdStats stats;
 };
 
@@ -52,7 +54,8 @@ class SelfCollider {
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
-    CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr);
+    CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
+                  bool want_toi = false);
 
     bool built() const { return built_; }
     Method method() const { return method_; }

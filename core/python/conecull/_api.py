@@ -160,7 +160,8 @@ class CcdResult:
     """(k, 2) int64 rows (edge a, edge b), a < b, ids of Mesh.edges, sorted."""
     stats: dict = field(default_factory=dict)
     toi: np.ndarray | None = None
-    """Earliest contact time per row (vf then ee), when available (not yet)."""
+    """With toi=True: per row (vf rows, then ee rows) a lower bound on the earliest contact time
+    (no contact happens before it; within 2^-20 of the first time the pair comes that close)."""
     trace: Trace | None = None
     """The step's events (conecull.trace schema, with the vf and ee kinds) when traced."""
 
@@ -196,19 +197,20 @@ class SelfCollider:
         pairs, stats, raw = self._core.dcd(a, bool(trace))
         return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
 
-    def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False) -> CcdResult:
+    def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False) -> CcdResult:
         """Continuous query: every vertex moves linearly from V0 to V1 over t in [0, 1].
 
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
         """
         _check_arithmetic(arithmetic)
-        if not isinstance(trace, (bool, np.bool_)):
-            raise ValueError(f"trace: expected True or False, got {trace!r}")
+        for name, flag in (("trace", trace), ("toi", toi)):
+            if not isinstance(flag, (bool, np.bool_)):
+                raise ValueError(f"{name}: expected True or False, got {flag!r}")
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
-        vf, ee, stats, raw = self._core.ccd(a0, a1, arithmetic, bool(trace))
-        return CcdResult(vf=vf, ee=ee, stats=stats, trace=Trace(raw) if raw is not None else None)
+        vf, ee, stats, raw, t = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi))
+        return CcdResult(vf=vf, ee=ee, stats=stats, toi=t, trace=Trace(raw) if raw is not None else None)
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:
