@@ -179,7 +179,11 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
     V = V.copy()
     V[:, 2] = 0.002 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
     G0, G1 = fold(V, 1.10 * np.pi, radius=0.03), fold(V, 1.13 * np.pi, radius=0.03)
-    steps.append((f"generated fold ({len(F) // 1000}K)", F, G0, G1, None, None))
+    steps.append((f"generated fold ({len(F) // 1000}K, exact grid)", F, G0, G1, None, None))
+    # The same step with every vertex jittered by 1e-5: no exact symmetries, as in a simulation.
+    rng = np.random.default_rng(0)
+    J = 1e-5 * rng.standard_normal(V.shape)
+    steps.append((f"generated fold ({len(F) // 1000}K, jittered)", F, G0 + J, G1 + J, None, None))
 
     print(f"# CCD: what accuracy costs in time (method nc, one thread, median of {repeats} runs)")
     print()

@@ -11,7 +11,9 @@
 //                  rounding-error bound. A box is dropped only when some component provably
 //                  keeps one sign on it, so no contact is ever missed; boxes that stay
 //                  undecided down to the tolerance (or past the box budget) report contact.
-//   kExact         the conservative test as a filter (its "no" is final), then an exact
+//   kExact         a shallow conservative test (its "no" is final), exact static contact at
+//                  t = 0 or 1, contacts proven by Miranda's theorem, a certified interval
+//                  filter on the time axis for near misses (its "no" is final), then an exact
 //                  decision: exact root isolation of the polynomials in t with dyadic
 //                  arithmetic and their signs at those roots (exact_ccd.cpp) - exactly the
 //                  answer for the given doubles.
@@ -35,7 +37,7 @@ struct ExactPathCounts {
     int64_t filtered = 0;        // excluded by the shallow conservative filter
     int64_t static_contact = 0;  // contact at t = 0 or t = 1 (exact static predicates)
     int64_t proven_contact = 0;  // contact proven by Miranda's theorem
-    int64_t deep_filtered = 0;   // excluded by the deeper conservative filter
+    int64_t deep_filtered = 0;   // excluded by the certified time-axis (interval) filter
     int64_t exact_engine = 0;    // decided by exact root isolation
 };
 ExactPathCounts& exact_path_counts();
