@@ -3,7 +3,7 @@
 
 #include <pybind11/stl.h>
 
-#include "common.hpp"
+#include "stages.hpp"
 #include "conecull/ccd/ccd_cone.hpp"
 #include "conecull/ccd/contour_test_ccd.hpp"
 #include "conecull/ccd/elementary_ccd.hpp"
@@ -117,14 +117,7 @@ void bind_ccd(py::module_& m) {
             } else {
                 v = unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis);
             }
-            py::dict d;
-            d["passed"] = v.passed();
-            d["reason"] = static_cast<int>(v.reason);
-            d["edge"] = v.edge;
-            d["crossings"] = v.crossings;
-            d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
-            d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
-            return d;
+            return verdict_dict(v);
         },
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(),
         "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; ray r if given.");

@@ -17,6 +17,17 @@ py::dict contour_arrays(const Contours& c) {
     return d;
 }
 
+py::dict verdict_dict(const ContourVerdict& v) {
+    py::dict d;
+    d["passed"] = v.passed();
+    d["reason"] = static_cast<int>(v.reason);
+    d["edge"] = v.edge;
+    d["crossings"] = v.crossings;
+    d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
+    d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
+    return d;
+}
+
 void bind_contour(py::module_& m) {
     m.def(
         "contour_test",
@@ -36,14 +47,7 @@ void bind_contour(py::module_& m) {
             } else {
                 v = unprojected_contour_test(loop.data(), n, V.data(), axis);
             }
-            py::dict d;
-            d["passed"] = v.passed();
-            d["reason"] = static_cast<int>(v.reason);
-            d["edge"] = v.edge;
-            d["crossings"] = v.crossings;
-            d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
-            d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
-            return d;
+            return verdict_dict(v);
         },
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(),
         "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,); ray r (3,) if given,\n"

@@ -40,61 +40,29 @@ inline int csidesign2(const Vec3& v0, const Vec3& v1, const Vec3& o, const Vec3&
     return ray_side_sign(v1, o, r, l) == s0 ? s0 : 0;
 }
 
+struct ContinuousSigns {
+    const int32_t* loop;
+    const double* V0;
+    const double* V1;
+    Vec3 o, r, l;
+    int kernel(int32_t i, int32_t j) const {  // Alg. 3 lines 12, 19
+        return csidesign1(o, load(V0, loop[i]), load(V0, loop[j]), load(V1, loop[i]), load(V1, loop[j]), l);
+    }
+    int ray(int32_t i) const { return csidesign2(load(V0, loop[i]), load(V1, loop[i]), o, r, l); }  // lines 23-24
+};
+
+// Alg. 3: the kernel point is the mean at t = 0 (Alg. 3 line 2), fixed over the step.
 inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop, int32_t n, const double* V0,
                                                           const double* V1, const Vec3& l, const Vec3& r) {
     ContourVerdict out;
-    Vec3 sum;
-    for (int32_t i = 0; i < n; ++i) sum = sum + load(V0, loop[i]);
-    out.kernel = (1.0 / n) * sum;  // Alg. 3 line 2: the mean at t = 0, fixed over the step
+    out.kernel = kernel_point(loop, n, V0);
     out.ray = r;
-    const Vec3& o = out.kernel;
-    int s0 = 0;
-    Vec3 vi0 = load(V0, loop[0]), vi1 = load(V1, loop[0]);
-    int s1 = csidesign2(vi0, vi1, o, r, l);
-    for (int32_t i = 0; i < n; ++i) {
-        const int32_t j = i + 1 == n ? 0 : i + 1;
-        const Vec3 vn0 = load(V0, loop[j]), vn1 = load(V1, loop[j]);
-        const int s = csidesign1(o, vi0, vn0, vi1, vn1, l);  // Alg. 3 lines 12, 19
-        if (i == 0) s0 = s;
-        out.edges_visited = i + 1;
-        if (s == 0) {
-            out.reason = ContourReason::kKernelSignZero;
-            out.edge = i;
-            return out;
-        }
-        if (s != s0) {
-            out.reason = ContourReason::kNotStarShaped;
-            out.edge = i;
-            return out;
-        }
-        const int s2 = csidesign2(vn0, vn1, o, r, l);  // Alg. 3 lines 23-24
-        if (s1 == 0 || s2 == 0) {
-            out.reason = ContourReason::kRayThroughVertex;
-            out.edge = s1 == 0 ? i : j;
-            return out;
-        }
-        if (s2 == s0 && s1 != s2 && ++out.crossings > 1) {  // Alg. 3 lines 28-31
-            out.reason = ContourReason::kMultipleCrossings;
-            out.edge = i;
-            return out;
-        }
-        vi0 = vn0;
-        vi1 = vn1;
-        s1 = s2;
-    }
-    if (out.crossings != 1) out.reason = ContourReason::kNoCrossing;
-    return out;
+    return star_contour_test(n, ContinuousSigns{loop, V0, V1, out.kernel, r, l}, out);
 }
 
 inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                                   const Vec3& l) {
-    ContourVerdict v = unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, ray_direction(l, 0));
-    for (int attempt = 1; attempt < kRayDirections && v.reason == ContourReason::kRayThroughVertex; ++attempt) {
-        const int32_t before = v.edges_visited;
-        v = unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, ray_direction(l, attempt));
-        v.edges_visited += before;
-    }
-    return v;
+    return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r); });
 }
 
 }  // namespace conecull

@@ -49,30 +49,22 @@ inline Vec3 ray_direction(const Vec3& l, int attempt) {
     return g[kRayDirections];
 }
 
-// Alg. 1. `loop` holds n vertex ids in boundary order; l is the cone axis.
-// Every sign is exact (filtered, then expansion arithmetic), so "passed" is a proof that the
-// projection of the loop along l is a simple star-shaped polygon around o. Departures from the
-// printed algorithm, all on the safe side: the ray direction (see ray_direction); the ray test
-// at a vertex is computed once per vertex (s2 of edge i is s1 of edge i+1); and the final
+// The star-shape test of Alg. 1 (DCD) and Alg. 3 (CCD), which differ only in their sign
+// functions: Signs::kernel(i, j) is SideSign(o, v_i, v_j, l) (CSideSign1 for CCD) and
+// Signs::ray(i) is SideSign(v_i, o, o + r, l) (CSideSign2). `out` arrives with kernel and ray
+// set. Every sign is exact (filtered, then expansion arithmetic), so "passed" is a proof that
+// the projection of the loop along l is a simple star-shaped polygon around o. Departures from
+// the printed algorithm, all on the safe side: the ray direction (see ray_direction); the ray
+// test at a vertex is computed once per vertex (s2 of edge i is s1 of edge i+1); and the final
 // answer requires exactly one crossing (the printed `return true` would also accept zero,
 // which exact signs never produce).
-inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
-                                                     const Vec3& r) {
-    ContourVerdict out;
-    // Alg. 1 line 2: kernel point o = mean of the contour vertices. Any o is valid for the
-    // test; rounding only moves it.
-    Vec3 sum;
-    for (int32_t i = 0; i < n; ++i) sum = sum + load(V, loop[i]);
-    const double inv = 1.0 / n;
-    out.kernel = inv * sum;
-    out.ray = r;
-    const Vec3& o = out.kernel;
+template <class Signs>
+ContourVerdict star_contour_test(int32_t n, const Signs& signs, ContourVerdict out) {
     int s0 = 0;
-    Vec3 vi = load(V, loop[0]);
-    int s1 = ray_side_sign(vi, o, r, l);  // Alg. 1 line 22
+    int s1 = signs.ray(0);  // Alg. 1 line 22
     for (int32_t i = 0; i < n; ++i) {
-        const Vec3 vn = load(V, loop[i + 1 == n ? 0 : i + 1]);
-        const int s = side_sign(o, vi, vn, l);  // Alg. 1 lines 11 and 18: kernel test
+        const int32_t j = i + 1 == n ? 0 : i + 1;
+        const int s = signs.kernel(i, j);  // Alg. 1 lines 11 and 18: kernel test
         if (i == 0) s0 = s;
         out.edges_visited = i + 1;
         if (s == 0) {
@@ -85,37 +77,66 @@ inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int
             out.edge = i;
             return out;
         }
-        const int s2 = ray_side_sign(vn, o, r, l);  // Alg. 1 line 23
-        if (s1 == 0 || s2 == 0) {                   // Alg. 1 line 24
+        const int s2 = signs.ray(j);  // Alg. 1 line 23
+        if (s1 == 0 || s2 == 0) {     // Alg. 1 line 24
             out.reason = ContourReason::kRayThroughVertex;
-            out.edge = s1 == 0 ? i : (i + 1 == n ? 0 : i + 1);
+            out.edge = s1 == 0 ? i : j;
             return out;
         }
         // Alg. 1 line 27: edge crosses the line of the ray, on the ray's side (see README,
         // "verified formulas": sweeping in the kernel sign's sense, a crossing of the ray ends
         // on the ray's s0 side).
-        if (s2 == s0 && s1 != s2) {
-            if (++out.crossings > 1) {
-                out.reason = ContourReason::kMultipleCrossings;
-                out.edge = i;
-                return out;
-            }
+        if (s2 == s0 && s1 != s2 && ++out.crossings > 1) {
+            out.reason = ContourReason::kMultipleCrossings;
+            out.edge = i;
+            return out;
         }
-        vi = vn;
         s1 = s2;
     }
     if (out.crossings != 1) out.reason = ContourReason::kNoCrossing;
     return out;
 }
 
-inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
-    ContourVerdict v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, 0));
+// Alg. 1 line 2: kernel point o = mean of the contour vertices (of V). Any o is valid for the
+// test; rounding only moves it.
+inline Vec3 kernel_point(const int32_t* loop, int32_t n, const double* V) {
+    Vec3 sum;
+    for (int32_t i = 0; i < n; ++i) sum = sum + load(V, loop[i]);
+    return (1.0 / n) * sum;
+}
+
+// Runs a test with the first ray direction, and once more with the second if the ray passed
+// exactly through a vertex (the counts of visited edges add up).
+template <class Test>
+ContourVerdict with_ray_retry(const Vec3& l, Test test) {
+    ContourVerdict v = test(ray_direction(l, 0));
     for (int attempt = 1; attempt < kRayDirections && v.reason == ContourReason::kRayThroughVertex; ++attempt) {
         const int32_t before = v.edges_visited;
-        v = unprojected_contour_test_with_ray(loop, n, V, l, ray_direction(l, attempt));
+        v = test(ray_direction(l, attempt));
         v.edges_visited += before;
     }
     return v;
+}
+
+struct DiscreteSigns {
+    const int32_t* loop;
+    const double* V;
+    Vec3 o, r, l;
+    int kernel(int32_t i, int32_t j) const { return side_sign(o, load(V, loop[i]), load(V, loop[j]), l); }
+    int ray(int32_t i) const { return ray_side_sign(load(V, loop[i]), o, r, l); }
+};
+
+// Alg. 1. `loop` holds n vertex ids in boundary order; l is the cone axis; r the ray.
+inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
+                                                     const Vec3& r) {
+    ContourVerdict out;
+    out.kernel = kernel_point(loop, n, V);
+    out.ray = r;
+    return star_contour_test(n, DiscreteSigns{loop, V, out.kernel, r, l}, out);
+}
+
+inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
+    return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r); });
 }
 
 }  // namespace conecull
