@@ -123,3 +123,32 @@ def test_pairs_contract():
     for key in ("bv_tests", "cone_tests", "contour_passed", "contour_failed", "elementary_tests", "colliding_pairs",
                 "seconds_refit", "seconds_traversal", "seconds_elementary"):
         assert key in res.stats
+
+
+def test_queries_release_the_gil_and_are_thread_safe():
+    """Queries from several threads (same collider and separate ones) give identical results."""
+    import threading
+
+    from conecull.datasets.generated import folding_sheet
+
+    Fb, frames = folding_sheet(3000, 6)
+    mesh = conecull.Mesh(Fb)
+    shared = conecull.SelfCollider(mesh)
+    expected = [conecull.SelfCollider(mesh).dcd(V).pairs for V in frames]
+    errors = []
+
+    def work(col, k):
+        try:
+            for _ in range(3):
+                for i, V in enumerate(frames):
+                    if not np.array_equal(col.dcd(V).pairs, expected[i]):
+                        errors.append((k, i))
+        except Exception as e:  # pragma: no cover - reported below
+            errors.append(e)
+
+    threads = [threading.Thread(target=work, args=(shared if k % 2 else conecull.SelfCollider(mesh), k)) for k in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
