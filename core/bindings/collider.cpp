@@ -155,7 +155,7 @@ void bind_collider(py::module_& m) {
                     e["filtered"] = c.exact_paths.filtered;
                     e["static_contact"] = c.exact_paths.static_contact;
                     e["proven_contact"] = c.exact_paths.proven_contact;
-                    e["deep_filtered"] = c.exact_paths.deep_filtered;
+                    e["interval_filtered"] = c.exact_paths.interval_filtered;
                     e["exact_engine"] = c.exact_paths.exact_engine;
                     st["exact_paths"] = e;
                 }

@@ -343,7 +343,7 @@ bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3&
                 return ++counts.proven_contact, true;
         }
     }
-    if (vertex_face_certainly_apart(p0, a0, b0, c0, p1, a1, b1, c1)) return ++counts.deep_filtered, false;
+    if (vertex_face_certainly_apart(p0, a0, b0, c0, p1, a1, b1, c1)) return ++counts.interval_filtered, false;
     ++counts.exact_engine;
     return vertex_face_ccd_exact(p0, a0, b0, c0, p1, a1, b1, c1);
 }
@@ -380,7 +380,7 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
                 return ++counts.proven_contact, true;
         }
     }
-    if (edge_edge_certainly_apart(a0, b0, c0, d0, a1, b1, c1, d1)) return ++counts.deep_filtered, false;
+    if (edge_edge_certainly_apart(a0, b0, c0, d0, a1, b1, c1, d1)) return ++counts.interval_filtered, false;
     ++counts.exact_engine;
     return edge_edge_ccd_exact(a0, b0, c0, d0, a1, b1, c1, d1);
 }

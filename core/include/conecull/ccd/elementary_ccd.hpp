@@ -37,7 +37,7 @@ struct ExactPathCounts {
     int64_t filtered = 0;        // excluded by the shallow conservative filter
     int64_t static_contact = 0;  // contact at t = 0 or t = 1 (exact static predicates)
     int64_t proven_contact = 0;  // contact proven by Miranda's theorem
-    int64_t deep_filtered = 0;   // excluded by the certified time-axis (interval) filter
+    int64_t interval_filtered = 0;   // excluded by the certified time-axis (interval) filter
     int64_t exact_engine = 0;    // decided by exact root isolation
 };
 ExactPathCounts& exact_path_counts();
