@@ -39,6 +39,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--node", type=int, required=True)
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
 
+    sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
+
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
     p.add_argument("suite", choices=["dcd", "trace", "ccd"],
                    help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time")
@@ -55,7 +57,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
 
 
-INPUT_HELP = ("a scene name (bend, fold, crumple), a folder of OBJ/PLY frames with identical faces, "
+INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames with identical faces, "
               "or one mesh file (with --positions)")
 
 
@@ -71,6 +73,11 @@ def _run(args) -> int:
         from conecull.app.demo import run_demo
 
         return run_demo(args.out, args.method)
+    if args.command == "scenes":
+        from conecull.datasets import describe
+
+        print("\n".join(describe()))
+        return 0
     if args.command == "record":
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
         from conecull.viz.rerun_sink import record

@@ -11,19 +11,14 @@ import os
 
 import numpy as np
 
-from conecull.datasets import generated
 
-# name -> (description, generator)
-SCENES = {
-    "bend": ("a gently bending sheet (never self-intersects)", lambda: generated.bending_sheet(2000, 30)),
-    "fold": ("a sheet folding onto itself until it passes through", lambda: generated.folding_sheet(2000, 30)),
-    "crumple": ("a sphere crumpling inwards until it self-intersects", lambda: generated.crumpling_sphere(20, 40, 30)),
-}
 DEFAULT_SCENE = "fold"
 
 
 def scene_names() -> list[str]:
-    return list(SCENES)
+    from conecull.datasets.registry import names
+
+    return names()
 
 
 def _load_mesh(path: str):
@@ -43,9 +38,10 @@ def _load_mesh(path: str):
 
 def load_sequence(source: str, positions: str | None = None):
     """Faces (m, 3) and frames (T, n, 3) from a scene name or path (see module doc)."""
+    from conecull.datasets.registry import SCENES, load
+
     if source in SCENES and positions is None and not os.path.exists(source):
-        F, frames = SCENES[source][1]()
-        return np.asarray(F, np.int64), np.asarray(frames, np.float64)
+        return load(source)
     if not os.path.exists(source):
         raise FileNotFoundError(f"INPUT: '{source}' is neither a scene ({', '.join(SCENES)}) nor an existing path")
     if os.path.isdir(source):
