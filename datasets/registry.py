@@ -56,6 +56,28 @@ def _bend(resolution: int, frames: int):
     return generated.bending_sheet(n_triangles=n_tri, n_frames=frames)
 
 
+def _drape(resolution: int, frames: int):
+    """A sheet pinned at two corners, blowing in the wind (a small FlowingCloth)."""
+    from conecull.datasets.sim import Bend, Gravity, PinnedVertices, Simulator, Stretch, Wind
+
+    F, V = generated.grid_sheet(resolution, resolution)
+    V = V[:, [0, 2, 1]] * [1.0, 1.0, -1.0] + [0.0, 0.0, 1.0]  # hang it vertically (x, z)
+    corners = [resolution * (resolution - 1), resolution * resolution - 1]  # the top row's ends
+    sim = Simulator(F, V, [Gravity(), Wind((0.0, 3.0, 0.0)), Stretch(), Bend(), PinnedVertices(corners)])
+    return F, sim.run(frames)
+
+
+def _ball(resolution: int, frames: int):
+    """A sheet dropped on a rotating ball and a floor (a small Twisting)."""
+    from conecull.datasets.sim import Bend, Gravity, PlaneCollider, Simulator, SphereCollider, Stretch
+
+    F, V = generated.grid_sheet(resolution, resolution)
+    V = V - [0.5, 0.5, 0.0] + [0.0, 0.0, 0.45]
+    sim = Simulator(F, V, [Gravity(), Stretch(), Bend(), SphereCollider((0, 0, 0.0), 0.3, (0, 0, 4.0)),
+                           PlaneCollider(-0.31)])
+    return F, sim.run(frames)
+
+
 SCENES: dict[str, Scene] = {
     s.name: s
     for s in (
@@ -63,6 +85,10 @@ SCENES: dict[str, Scene] = {
         Scene("roll", "a strip curling into a spiral until it touches itself", "teaching", _roll, 64, 30),
         Scene("crumple", "a sphere crumpling inwards until it self-intersects", "teaching", _crumple, 22, 30),
         Scene("bend", "a gently bending sheet (never self-intersects)", "teaching", _bend, 33, 30),
+        Scene("drape", "a sheet pinned at two corners in gusty wind", "FlowingCloth (small, no self-contact yet)",
+              _drape, 24, 60, ("gravity", "wind", "stretch", "bend", "pinned")),
+        Scene("ball", "a sheet dropped on a rotating ball over a floor", "Twisting (small, no self-contact yet)",
+              _ball, 24, 60, ("gravity", "stretch", "bend", "sphere", "plane")),
     )
 }
 
@@ -121,7 +147,8 @@ def describe() -> list[str]:
     """One line per scene: name, triangles at default resolution, frames, effects, stands for."""
     lines = []
     for s in SCENES.values():
-        F, _ = s.generate(s.default_resolution, 1)
+        F, _ = s.generate(s.default_resolution, 1) if not s.effects else generated.grid_sheet(s.default_resolution,
+                                                                                                s.default_resolution)
         effects = ", ".join(s.effects) if s.effects else "kinematic"
         lines.append(f"{s.name:10s} {len(F):8d} triangles {s.default_frames:4d} frames  {effects:24s} "
                      f"{s.stands_for}: {s.description}")

@@ -1,0 +1,8 @@
+"""A small position-based simulator whose effects are modules: a scene declares its effects and
+only those are ever constructed or computed (`Simulator.calls` counts what ran)."""
+
+from conecull.datasets.sim.effects import (Gravity, PinnedVertices, PlaneCollider, SphereCollider, Stretch, Bend,
+                                           Wind)
+from conecull.datasets.sim.simulator import Simulator
+
+__all__ = ["Simulator", "Gravity", "PinnedVertices", "Wind", "Stretch", "Bend", "PlaneCollider", "SphereCollider"]

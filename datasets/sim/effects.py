@@ -1,0 +1,151 @@
+"""Effects of the simulator, one class each, in three stages:
+  force(sim, dt)       adds to velocities before prediction (gravity, wind);
+  constrain(sim, dt)   projects predicted positions, XPBD style (stretch, bend);
+  collide(sim, dt)     pushes predicted positions out of kinematic colliders, with friction;
+  pin(sim, t)          overrides positions of pinned vertices.
+Each effect implements only the stages it needs; the simulator calls only declared effects."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class Effect:
+    stages: tuple = ()
+
+    def setup(self, sim) -> None:  # precomputation from the rest pose
+        pass
+
+
+class Gravity(Effect):
+    stages = ("force",)
+
+    def __init__(self, g=(0.0, 0.0, -9.81)):
+        self.g = np.asarray(g, float)
+
+    def force(self, sim, dt):
+        sim.v += dt * self.g
+
+
+class Wind(Effect):
+    """Air drag towards a wind velocity, per vertex, scaled by how much the surface faces it."""
+    stages = ("force",)
+
+    def __init__(self, velocity=(2.0, 0.0, 0.0), drag=0.8, gust=0.3, seed=0):
+        self.velocity = np.asarray(velocity, float)
+        self.drag, self.gust = drag, gust
+        self.rng = np.random.default_rng(seed)
+
+    def force(self, sim, dt):
+        w = self.velocity * (1.0 + self.gust * np.sin(2.0 * sim.t * 3.1 + self.rng.uniform(0, 0.1)))
+        n = sim.vertex_normals()
+        facing = np.abs(n @ (w / (np.linalg.norm(w) + 1e-12)))[:, None]
+        sim.v += dt * self.drag * facing * (w - sim.v)
+
+
+class PinnedVertices(Effect):
+    stages = ("pin",)
+
+    def __init__(self, indices, motion=None):
+        self.indices = np.asarray(indices, int)
+        self.motion = motion  # optional f(t, rest positions) -> positions
+
+    def setup(self, sim):
+        self.rest = sim.x[self.indices].copy()
+
+    def pin(self, sim, t):
+        sim.p[self.indices] = self.rest if self.motion is None else self.motion(t, self.rest)
+
+
+class Stretch(Effect):
+    """XPBD distance constraints on the mesh edges (rest lengths from the rest pose)."""
+    stages = ("constrain",)
+
+    def __init__(self, compliance=1e-7):
+        self.compliance = compliance
+
+    def setup(self, sim):
+        self.e = sim.edges
+        self.rest = np.linalg.norm(sim.x[self.e[:, 1]] - sim.x[self.e[:, 0]], axis=1)
+
+    def constrain(self, sim, dt):
+        _distance_pass(sim, self.e, self.rest, self.compliance / (dt * dt))
+
+
+class Bend(Effect):
+    """Bending as XPBD distances between the opposite vertices of edge-adjacent triangles."""
+    stages = ("constrain",)
+
+    def __init__(self, compliance=1e-4):
+        self.compliance = compliance
+
+    def setup(self, sim):
+        F = sim.faces
+        off, ids = sim.mesh.edge_faces
+        pairs = []
+        for e, (a, b) in enumerate(sim.edges.tolist()):
+            fs = ids[off[e]:off[e + 1]]
+            if len(fs) != 2:
+                continue
+            c = [v for v in F[fs[0]] if v not in (a, b)][0]
+            d = [v for v in F[fs[1]] if v not in (a, b)][0]
+            pairs.append((c, d))
+        self.e = np.array(pairs, int).reshape(-1, 2)
+        self.rest = np.linalg.norm(sim.x[self.e[:, 1]] - sim.x[self.e[:, 0]], axis=1)
+
+    def constrain(self, sim, dt):
+        _distance_pass(sim, self.e, self.rest, self.compliance / (dt * dt))
+
+
+def _distance_pass(sim, e, rest, alpha):
+    """One Jacobi-style XPBD pass over distance constraints (vectorised, averaged per vertex)."""
+    p = sim.p
+    d = p[e[:, 1]] - p[e[:, 0]]
+    length = np.linalg.norm(d, axis=1) + 1e-12
+    w0, w1 = sim.inv_mass[e[:, 0]], sim.inv_mass[e[:, 1]]
+    lam = -(length - rest) / (w0 + w1 + alpha + 1e-12)
+    corr = (lam / length)[:, None] * d
+    delta = np.zeros_like(p)
+    count = np.zeros(len(p))
+    np.add.at(delta, e[:, 0], -w0[:, None] * corr)
+    np.add.at(delta, e[:, 1], w1[:, None] * corr)
+    np.add.at(count, e[:, 0], 1)
+    np.add.at(count, e[:, 1], 1)
+    sim.p += 1.5 * delta / np.maximum(count, 1)[:, None]  # over-relaxed Jacobi
+
+
+class PlaneCollider(Effect):
+    stages = ("collide",)
+
+    def __init__(self, height=0.0, friction=0.5, offset=0.002):
+        self.height, self.friction, self.offset = height, friction, offset
+
+    def collide(self, sim, dt):
+        inside = sim.p[:, 2] < self.height + self.offset
+        sim.p[inside, 2] = self.height + self.offset
+        slide = sim.p[inside, :2] - sim.x[inside, :2]
+        sim.p[inside, :2] = sim.x[inside, :2] + (1.0 - self.friction) * slide
+
+
+class SphereCollider(Effect):
+    """A (possibly rotating) sphere; contact drags the cloth along the surface velocity."""
+    stages = ("collide",)
+
+    def __init__(self, center=(0.0, 0.0, 0.0), radius=0.3, angular_velocity=(0.0, 0.0, 0.0), friction=0.6,
+                 offset=0.004):
+        self.c = np.asarray(center, float)
+        self.r, self.w = radius, np.asarray(angular_velocity, float)
+        self.friction, self.offset = friction, offset
+
+    def collide(self, sim, dt):
+        d = sim.p - self.c
+        dist = np.linalg.norm(d, axis=1)
+        inside = dist < self.r + self.offset
+        if not inside.any():
+            return
+        n = d[inside] / np.maximum(dist[inside], 1e-12)[:, None]
+        sim.p[inside] = self.c + n * (self.r + self.offset)
+        surface_v = np.cross(self.w, sim.p[inside] - self.c)
+        rel = (sim.p[inside] - sim.x[inside]) - dt * surface_v
+        tangential = rel - (rel * n).sum(axis=1)[:, None] * n
+        sim.p[inside] -= self.friction * tangential
