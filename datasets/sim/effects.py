@@ -2,7 +2,8 @@
   force(sim, dt)       adds to velocities before prediction (gravity, wind);
   constrain(sim, dt)   projects predicted positions, XPBD style (stretch, bend);
   collide(sim, dt)     pushes predicted positions out of kinematic colliders, with friction;
-  pin(sim, t)          overrides positions of pinned vertices.
+  pin(sim, t)          overrides positions of pinned vertices;
+  contact(sim, dt)     last: keeps the step free of self-contact (conecull's own CCD).
 Each effect implements only the stages it needs; the simulator calls only declared effects."""
 
 from __future__ import annotations
@@ -149,3 +150,35 @@ class SphereCollider(Effect):
         rel = (sim.p[inside] - sim.x[inside]) - dt * surface_v
         tangential = rel - (rel * n).sum(axis=1)[:, None] * n
         sim.p[inside] -= self.friction * tangential
+
+
+class SelfContact(Effect):
+    """Fail-safe self-contact with conecull's own CCD: every vertex of a pair that touches
+    during the substep (conservative arithmetic: no contact is ever missed) keeps its previous
+    position, and the step is checked again until no contact is left (freezing everything
+    would be contact-free, so this ends). From an intersection-free state the cloth can then
+    never pass through itself."""
+    stages = ("contact",)
+
+    def __init__(self, max_rounds=50):
+        self.max_rounds = max_rounds
+
+    def setup(self, sim):
+        import conecull
+
+        self.col = conecull.SelfCollider(sim.mesh, method="nc")
+        self.frozen_total = 0
+
+    def contact(self, sim, dt):
+        E = sim.edges
+        for _ in range(self.max_rounds):
+            res = self.col.ccd(sim.x, sim.p, arithmetic="conservative")
+            if len(res.vf) == 0 and len(res.ee) == 0:
+                return
+            verts = np.unique(np.concatenate([res.vf[:, 0], sim.faces[res.vf[:, 1]].ravel(), E[res.ee.ravel()].ravel()]))
+            moving = verts[np.any(sim.p[verts] != sim.x[verts], axis=1)]
+            if len(moving) == 0:  # contact already at the start of the step: nothing to undo
+                return
+            sim.p[moving] = sim.x[moving]
+            self.frozen_total += len(moving)
+        sim.p[:] = sim.x  # out of rounds: stand still this substep (contact-free by the start state)

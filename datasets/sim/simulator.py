@@ -50,6 +50,7 @@ class Simulator:
                 self._run("constrain", h)
             self._run("collide", h)
             self._run("pin", self.t + h)
+            self._run("contact", h)
             self.v = (self.p - self.x) / h
             self.x = self.p.copy()
             self.t += h
