@@ -76,3 +76,12 @@ def test_unreadable_mesh(tmp_path, capsys):
     bad.write_text("this is not a mesh\n")
     assert main(["record", str(bad)]) == 2
     assert "bad.obj" in capsys.readouterr().err
+
+
+def test_record_a_real_step_from_shared_data(tmp_path, capsys):
+    """A scalable-ccd scene's frames/ folder is a two-frame sequence: record its CCD step."""
+    from shared_data import DATA, require
+
+    frames = require(DATA / "scalable-ccd" / "cloth-funnel" / "frames")
+    assert main(["record", str(frames), "--ccd", "--out", str(tmp_path / "funnel.rrd")]) == 0
+    assert "1 CCD steps (exact), 18484 triangles" in capsys.readouterr().out
