@@ -78,6 +78,16 @@ def _ball(resolution: int, frames: int):
     return F, sim.run(frames)
 
 
+def _funnel(resolution: int, frames: int):
+    """A sheet falling into a funnel and folding to fit, with self-contact (a small Funnel)."""
+    from conecull.datasets.sim import Bend, FunnelCollider, Gravity, SelfContact, Simulator, Stretch
+
+    F, V = generated.grid_sheet(resolution, resolution, width=0.9, height=0.9)
+    V = V - [0.45, 0.45, 0.0] + [0.0, 0.0, 0.85]
+    sim = Simulator(F, V, [Gravity(), Stretch(), Bend(1e-3), FunnelCollider(z_bottom=0.0, z_top=1.2), SelfContact()])
+    return F, sim.run(frames)
+
+
 SCENES: dict[str, Scene] = {
     s.name: s
     for s in (
@@ -89,6 +99,8 @@ SCENES: dict[str, Scene] = {
               _drape, 24, 60, ("gravity", "wind", "stretch", "bend", "pinned")),
         Scene("ball", "a sheet dropped on a rotating ball over a floor", "Twisting (small, no self-contact yet)",
               _ball, 24, 60, ("gravity", "stretch", "bend", "sphere", "plane")),
+        Scene("funnel", "a sheet falling into a funnel, folding to fit, with self-contact", "Funnel (small)",
+              _funnel, 24, 60, ("gravity", "stretch", "bend", "funnel", "self-contact")),
     )
 }
 

@@ -1,9 +1,9 @@
 """A small position-based simulator whose effects are modules: a scene declares its effects and
 only those are ever constructed or computed (`Simulator.calls` counts what ran)."""
 
-from conecull.datasets.sim.effects import (Bend, Gravity, PinnedVertices, PlaneCollider, SelfContact, SphereCollider,
-                                           Stretch, Wind)
+from conecull.datasets.sim.effects import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices,
+                                           PlaneCollider, SelfContact, SphereCollider, Stretch, Wind)
 from conecull.datasets.sim.simulator import Simulator
 
 __all__ = ["Simulator", "Gravity", "PinnedVertices", "Wind", "Stretch", "Bend", "PlaneCollider", "SphereCollider",
-           "SelfContact"]
+           "SelfContact", "FunnelCollider", "CapsuleCollider"]

@@ -41,7 +41,7 @@ def test_declared_effects_all_run_and_are_deterministic():
     assert np.isfinite(Xa).all() and Xa[-1][:, 2].min() >= -1e-9  # the floor holds
 
 
-@pytest.mark.parametrize("name", ["drape", "ball"])
+@pytest.mark.parametrize("name", ["drape", "ball", "funnel"])
 def test_simulated_scenes_small(name):
     from conecull import datasets
 
@@ -75,3 +75,31 @@ def test_self_contact_keeps_a_squeezed_cloth_free_of_intersections():
 
     assert max(run([])) > 0  # the scenario really self-intersects without self-contact
     assert max(run([SelfContact()])) == 0
+
+
+def test_colliders_push_out():
+    from conecull.datasets.sim import CapsuleCollider, FunnelCollider
+
+    F, V = sheet(4)
+    sim = Simulator(F, V, [CapsuleCollider((0.5, 0.5, 0.0), (0.5, 0.5, 1.0), 0.3)])
+    sim.p = sim.x.copy()
+    sim._run("collide", 0.01)
+    d = np.linalg.norm(sim.p[:, :2] - [0.5, 0.5], axis=1)
+    assert (d >= 0.3 - 1e-12).all()
+    # funnel: a point inside moving out through the wall stays inside
+    sim = Simulator(F, V, [FunnelCollider(z_bottom=0.0, z_top=1.0, r_hole=0.1)])
+    sim.x[:] = [0.0, 0.0, 0.5]
+    sim.p = sim.x + [1.0, 0.0, 0.0]
+    sim._run("collide", 0.01)
+    R = 0.1 + 0.5 * np.tan(np.radians(35.0))
+    assert (np.linalg.norm(sim.p[:, :2], axis=1) <= R + 1e-9).all()
+
+
+def test_funnel_scene_stays_intersection_free():
+    import conecull
+    from conecull import datasets
+
+    F, P = datasets.load("funnel", resolution=10, frames=30)
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    assert all(len(col.dcd(x).pairs) == 0 for x in P)
+    assert P[-1][:, 2].max() < P[0][:, 2].max()  # it fell into the funnel
