@@ -64,6 +64,15 @@ def ray_direction(l):
     return (-l[2], 0.0, l[0])
 
 
+def float_mean(pts):
+    """The kernel point exactly as the core computes it: a float sum in order, times 1/n."""
+    s = [0.0, 0.0, 0.0]
+    for p in pts:
+        s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
+    inv = 1.0 / len(pts)
+    return (inv * s[0], inv * s[1], inv * s[2])
+
+
 def contour_test(loop_pts, l, o=None, r=None):
     """Alg. 1 in exact arithmetic on the printed SideSign definitions.
 
@@ -73,11 +82,7 @@ def contour_test(loop_pts, l, o=None, r=None):
     """
     n = len(loop_pts)
     if o is None:
-        s = [0.0, 0.0, 0.0]
-        for p in loop_pts:
-            s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
-        inv = 1.0 / n
-        o = (inv * s[0], inv * s[1], inv * s[2])
+        o = float_mean(loop_pts)
     if r is None:
         r = ray_direction(l)
     s0 = None
@@ -159,11 +164,7 @@ def contour_test_ccd(pts0, pts1, l, r, o=None):
     """Alg. 3 in exact arithmetic (with our k2). o defaults to the core's float mean at t = 0."""
     n = len(pts0)
     if o is None:
-        s = [0.0, 0.0, 0.0]
-        for p in pts0:
-            s = [s[0] + p[0], s[1] + p[1], s[2] + p[2]]
-        inv = 1.0 / n
-        o = (inv * s[0], inv * s[1], inv * s[2])
+        o = float_mean(pts0)
     s0, crossings = None, 0
     for i in range(n):
         j = (i + 1) % n

@@ -14,6 +14,22 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// Runs `body` with the query's tracer variant, chosen once per query: the recording tracer if
+// one is given (and the build has hooks), else the NullTracer whose hooks compile away.
+template <class Body>
+void with_tracer(RecordingTracer* tracer, const Bvh& bvh, Body body) {
+#ifdef CONECULL_NO_TRACE_HOOKS
+    tracer = nullptr;
+#endif
+    if (tracer) {
+        tracer->reserve(bvh);
+        body(*tracer);
+    } else {
+        NullTracer null;
+        body(null);
+    }
+}
+
 }  // namespace
 
 Method parse_method(const std::string& name) {
@@ -71,17 +87,7 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
     else refit_boxes(bvh_, *topo_, V);
     if (method_ == Method::kNc) refit_cones(bvh_, *topo_, V, cones_);
     res.stats.seconds_refit = seconds_since(t0);
-    // The tracer variant is chosen once per query; the traversal itself has no branches on it.
-#ifdef CONECULL_NO_TRACE_HOOKS
-    tracer = nullptr;
-#endif
-    if (tracer) {
-        tracer->reserve(bvh_);
-        traverse_and_test(V, *tracer, res);
-    } else {
-        NullTracer null;
-        traverse_and_test(V, null, res);
-    }
+    with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
     return res;
 }
 
@@ -121,16 +127,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     refit_boxes_ccd(bvh_, *topo_, V0, V1);
     if (method_ == Method::kNc) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
     res.stats.seconds_refit = seconds_since(t0);
-#ifdef CONECULL_NO_TRACE_HOOKS
-    tracer = nullptr;
-#endif
-    if (tracer) {
-        tracer->reserve(bvh_);
-        ccd_traverse_and_test(V0, V1, arithmetic, *tracer, res);
-    } else {
-        NullTracer null;
-        ccd_traverse_and_test(V0, V1, arithmetic, null, res);
-    }
+    with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
     if (want_toi) {
         const int32_t* F = topo_->faces.data();
         const int32_t* E = topo_->edges.data();
