@@ -85,28 +85,31 @@ def contour_test(loop_pts, l, o=None, r=None):
         o = float_mean(loop_pts)
     if r is None:
         r = ray_direction(l)
-    s0 = None
-    crossings = 0
+    return star_test(n, lambda i, j: side_sign(o, loop_pts[i], loop_pts[j], l),
+                     lambda i: ray_side_sign_literal(loop_pts[i], o, r, l))
+
+
+def star_test(n, kernel, ray):
+    """The loop of Alg. 1 / Alg. 3 given the sign functions kernel(i, j) and ray(i); returns
+    (passed, reason, edge) with the core's reason codes."""
+    s0, crossings = None, 0
     for i in range(n):
-        vi, vn = loop_pts[i], loop_pts[(i + 1) % n]
-        s = side_sign(o, vi, vn, l)
+        j = (i + 1) % n
+        s = kernel(i, j)
         if i == 0:
             s0 = s
         if s == 0:
             return False, 1, i
         if s != s0:
             return False, 2, i
-        s1 = ray_side_sign_literal(vi, o, r, l)
-        s2 = ray_side_sign_literal(vn, o, r, l)
+        s1, s2 = ray(i), ray(j)
         if s1 == 0 or s2 == 0:
-            return False, 3, i if s1 == 0 else (i + 1) % n
+            return False, 3, i if s1 == 0 else j
         if s2 == s0 and s1 != s2:
             crossings += 1
             if crossings > 1:
                 return False, 4, i
-    if crossings != 1:
-        return False, 5, -1
-    return True, 0, -1
+    return (True, 0, -1) if crossings == 1 else (False, 5, -1)
 
 
 def triangle_normal(a, b, c):
@@ -165,22 +168,5 @@ def contour_test_ccd(pts0, pts1, l, r, o=None):
     n = len(pts0)
     if o is None:
         o = float_mean(pts0)
-    s0, crossings = None, 0
-    for i in range(n):
-        j = (i + 1) % n
-        s = csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l)
-        if i == 0:
-            s0 = s
-        if s == 0:
-            return False, 1, i
-        if s != s0:
-            return False, 2, i
-        s1 = csidesign2(pts0[i], pts1[i], o, r, l)
-        s2 = csidesign2(pts0[j], pts1[j], o, r, l)
-        if s1 == 0 or s2 == 0:
-            return False, 3, i if s1 == 0 else j
-        if s2 == s0 and s1 != s2:
-            crossings += 1
-            if crossings > 1:
-                return False, 4, i
-    return (True, 0, -1) if crossings == 1 else (False, 5, -1)
+    return star_test(n, lambda i, j: csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l),
+                     lambda i: csidesign2(pts0[i], pts1[i], o, r, l))

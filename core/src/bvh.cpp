@@ -246,69 +246,60 @@ Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size) {
     return bvh;
 }
 
-void refit_boxes(Bvh& bvh, const Topology& topo, const double* V) {
-    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
-        BvhNode& n = bvh.nodes[i];
-        if (n.is_leaf()) {
-            n.box = triangle_box(topo, V, bvh.order[n.begin]);
-            for (int32_t k = n.begin + 1; k < n.end; ++k) n.box = unite(n.box, triangle_box(topo, V, bvh.order[k]));
-        } else {
-            n.box = unite(bvh.nodes[Bvh::left(i)].box, bvh.nodes[n.right].box);
-        }
-    }
-}
+namespace {
 
-void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones) {
-    cones.resize(bvh.nodes.size());
+// Bottom-up refit shared by boxes and cones, DCD and CCD: a leaf combines the values of its
+// triangles (in leaf order), an inner node those of its two children. Children follow their
+// parent in pre-order, so one reverse sweep suffices.
+template <class T, class TriangleValue, class Combine>
+void refit(const Bvh& bvh, std::vector<T>& out, TriangleValue triangle_value, Combine combine) {
+    out.resize(bvh.nodes.size());
     for (int32_t i = bvh.size() - 1; i >= 0; --i) {
         const BvhNode& n = bvh.nodes[i];
         if (n.is_leaf()) {
-            NormalCone c;
-            for (int32_t k = n.begin; k < n.end; ++k) {
-                const int32_t* t = &topo.faces[3 * static_cast<size_t>(bvh.order[k])];
-                const NormalCone tc = triangle_cone(load(V, t[0]), load(V, t[1]), load(V, t[2]));
-                c = k == n.begin ? tc : merge(c, tc);
-            }
-            cones[i] = c;
+            T v = triangle_value(bvh.order[n.begin]);
+            for (int32_t k = n.begin + 1; k < n.end; ++k) v = combine(v, triangle_value(bvh.order[k]));
+            out[i] = v;
         } else {
-            cones[i] = merge(cones[Bvh::left(i)], cones[n.right]);
+            out[i] = combine(out[Bvh::left(i)], out[n.right]);
         }
     }
 }
 
+void store_boxes(Bvh& bvh, const std::vector<Aabb>& boxes) {
+    for (size_t i = 0; i < boxes.size(); ++i) bvh.nodes[i].box = boxes[i];
+}
+
+const int32_t* face(const Topology& topo, int32_t f) { return &topo.faces[3 * static_cast<size_t>(f)]; }
+
+}  // namespace
+
+void refit_boxes(Bvh& bvh, const Topology& topo, const double* V) {
+    std::vector<Aabb> boxes;
+    refit(bvh, boxes, [&](int32_t f) { return triangle_box(topo, V, f); }, unite);
+    store_boxes(bvh, boxes);
+}
+
+void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones) {
+    refit(bvh, cones, [&](int32_t f) {
+        const int32_t* t = face(topo, f);
+        return triangle_cone(load(V, t[0]), load(V, t[1]), load(V, t[2]));
+    }, merge);
+}
+
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1) {
-    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
-        BvhNode& n = bvh.nodes[i];
-        if (n.is_leaf()) {
-            n.box = triangle_box(topo, V0, bvh.order[n.begin]);
-            for (int32_t k = n.begin; k < n.end; ++k) {
-                n.box = unite(n.box, triangle_box(topo, V0, bvh.order[k]));
-                n.box = unite(n.box, triangle_box(topo, V1, bvh.order[k]));
-            }
-        } else {
-            n.box = unite(bvh.nodes[Bvh::left(i)].box, bvh.nodes[n.right].box);
-        }
-    }
+    std::vector<Aabb> boxes;
+    refit(bvh, boxes, [&](int32_t f) { return unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f)); }, unite);
+    store_boxes(bvh, boxes);
 }
 
 void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
                      std::vector<NormalCone>& cones) {
-    cones.resize(bvh.nodes.size());
-    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
-        const BvhNode& n = bvh.nodes[i];
-        if (n.is_leaf()) {
-            NormalCone c;
-            for (int32_t k = n.begin; k < n.end; ++k) {
-                const int32_t* t = &topo.faces[3 * static_cast<size_t>(bvh.order[k])];
-                const NormalCone tc = triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]),
-                                                        load(V1, t[1]), load(V1, t[2]));
-                c = k == n.begin ? tc : merge(c, tc);
-            }
-            cones[i] = c;
-        } else {
-            cones[i] = merge(cones[Bvh::left(i)], cones[n.right]);
-        }
-    }
+    refit(bvh, cones, [&](int32_t f) {
+        const int32_t* t = face(topo, f);
+        return triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]), load(V1, t[1]),
+                                 load(V1, t[2]));
+    }, merge);
 }
 
 }  // namespace conecull
