@@ -18,7 +18,7 @@ from typing import Callable
 
 import numpy as np
 
-from conecull.datasets import generated
+from conecull.datasets import cloth, generated, skirt, squishy
 
 CACHE_VERSION = 1
 
@@ -28,79 +28,82 @@ class Scene:
     name: str
     description: str
     stands_for: str                      # which paper benchmark (Sec. 5.2) it stands in for, or "teaching"
-    generate: Callable                   # (resolution, frames) -> (faces (m, 3), positions (T, n, 3))
+    generate: Callable                   # (resolution, frames, dt) -> (faces (m, 3), positions (T, n, 3))
+    triangles: Callable                  # resolution -> number of triangles
     default_resolution: int
     default_frames: int
     effects: tuple = field(default=())   # () = kinematic
-    dt: float = 1.0 / 30.0
+    dt: float = 1.0 / 30.0               # seconds between frames (simulated scenes step with it)
 
 
-def _roll(resolution: int, frames: int):
+def _grid_triangles(resolution: int) -> int:
+    return 2 * (resolution - 1) ** 2
+
+
+def _roll(resolution: int, frames: int, dt: float):
     """A strip curling around a small cylinder until its end comes back onto the strip."""
     F, V = generated.grid_sheet(resolution, max(2, resolution // 8), width=1.0, height=0.12)
     angles = np.linspace(0.0, 2.25 * np.pi, frames)
     return F, np.stack([generated.fold(V, a, x0=0.45, radius=0.07) for a in angles])
 
 
-def _fold(resolution: int, frames: int):
-    n_tri = 2 * (resolution - 1) ** 2
-    return generated.folding_sheet(n_triangles=n_tri, n_frames=frames)
+def _fold(resolution: int, frames: int, dt: float):
+    return generated.folding_sheet(n_triangles=_grid_triangles(resolution), n_frames=frames)
 
 
-def _crumple(resolution: int, frames: int):
+def _crumple(resolution: int, frames: int, dt: float):
     return generated.crumpling_sphere(n_lat=resolution, n_lon=2 * resolution, n_frames=frames)
 
 
-def _bend(resolution: int, frames: int):
-    n_tri = 2 * (resolution - 1) ** 2
-    return generated.bending_sheet(n_triangles=n_tri, n_frames=frames)
+def _bend(resolution: int, frames: int, dt: float):
+    return generated.bending_sheet(n_triangles=_grid_triangles(resolution), n_frames=frames)
 
 
-def _drape(resolution: int, frames: int):
-    """A sheet pinned at two corners, blowing in the wind (a small FlowingCloth)."""
-    from conecull.datasets.sim import Bend, Gravity, PinnedVertices, Simulator, Stretch, Wind
+def _simulated_scene(name, description, stands_for, setup, triangles, resolution, frames, effects) -> Scene:
+    """A simulated scene: its set-up's effects must be exactly the declared ones (the simulator
+    checks), so an effect a scene does not declare is never even constructed."""
+    from conecull.datasets.sim import Simulator
 
-    F, V = generated.grid_sheet(resolution, resolution)
-    V = V[:, [0, 2, 1]] * [1.0, 1.0, -1.0] + [0.0, 0.0, 1.0]  # hang it vertically (x, z)
-    corners = [resolution * (resolution - 1), resolution * resolution - 1]  # the top row's ends
-    sim = Simulator(F, V, [Gravity(), Wind((0.0, 3.0, 0.0)), Stretch(), Bend(), PinnedVertices(corners)])
-    return F, sim.run(frames)
+    def generate(res: int, n_frames: int, dt: float):
+        F, V, built, options = setup(res)
+        return F, Simulator(F, V, built, dt=dt, declared=effects, **options).run(n_frames)
 
-
-def _ball(resolution: int, frames: int):
-    """A sheet dropped on a rotating ball and a floor (a small Twisting)."""
-    from conecull.datasets.sim import Bend, Gravity, PlaneCollider, Simulator, SphereCollider, Stretch
-
-    F, V = generated.grid_sheet(resolution, resolution)
-    V = V - [0.5, 0.5, 0.0] + [0.0, 0.0, 0.45]
-    sim = Simulator(F, V, [Gravity(), Stretch(), Bend(), SphereCollider((0, 0, 0.0), 0.3, (0, 0, 4.0)),
-                           PlaneCollider(-0.31)])
-    return F, sim.run(frames)
+    return Scene(name, description, stands_for, generate, triangles, resolution, frames, effects)
 
 
-def _funnel(resolution: int, frames: int):
-    """A sheet falling into a funnel and folding to fit, with self-contact (a small Funnel)."""
-    from conecull.datasets.sim import Bend, FunnelCollider, Gravity, SelfContact, Simulator, Stretch
-
-    F, V = generated.grid_sheet(resolution, resolution, width=0.9, height=0.9)
-    V = V - [0.45, 0.45, 0.0] + [0.0, 0.0, 0.85]
-    sim = Simulator(F, V, [Gravity(), Stretch(), Bend(1e-3), FunnelCollider(z_bottom=0.0, z_top=1.2), SelfContact()])
-    return F, sim.run(frames)
+def _flamenco(resolution: int, frames: int, dt: float):
+    return skirt.skirt_sequence(resolution, frames)
 
 
+def _squishy(resolution: int, frames: int, dt: float):
+    return squishy.squishy_sequence(resolution, frames)
+
+
+CLOTH = ("gravity", "stretch", "bend")
 SCENES: dict[str, Scene] = {
     s.name: s
     for s in (
-        Scene("fold", "a sheet folding onto itself until it passes through", "teaching", _fold, 33, 30),
-        Scene("roll", "a strip curling into a spiral until it touches itself", "teaching", _roll, 64, 30),
-        Scene("crumple", "a sphere crumpling inwards until it self-intersects", "teaching", _crumple, 22, 30),
-        Scene("bend", "a gently bending sheet (never self-intersects)", "teaching", _bend, 33, 30),
-        Scene("drape", "a sheet pinned at two corners in gusty wind", "FlowingCloth (small, no self-contact yet)",
-              _drape, 24, 60, ("gravity", "wind", "stretch", "bend", "pinned")),
-        Scene("ball", "a sheet dropped on a rotating ball over a floor", "Twisting (small, no self-contact yet)",
-              _ball, 24, 60, ("gravity", "stretch", "bend", "sphere", "plane")),
-        Scene("funnel", "a sheet falling into a funnel, folding to fit, with self-contact", "Funnel (small)",
-              _funnel, 24, 60, ("gravity", "stretch", "bend", "funnel", "self-contact")),
+        Scene("fold", "a sheet folding onto itself until it passes through", "teaching", _fold, _grid_triangles, 33, 30),
+        Scene("roll", "a strip curling into a spiral until it touches itself", "teaching", _roll,
+              lambda r: 2 * (r - 1) * (max(2, r // 8) - 1), 64, 30),
+        Scene("crumple", "a sphere crumpling inwards until it self-intersects", "teaching", _crumple,
+              lambda r: 2 * r * 2 * r - 4 * r, 22, 30),
+        Scene("bend", "a gently bending sheet (never self-intersects)", "teaching", _bend, _grid_triangles, 33, 30),
+        _simulated_scene("funnel", "a sheet falling into a funnel, folding to fit, with self-contact", "Funnel",
+                         cloth.funnel, _grid_triangles, 180, 60, CLOTH + ("funnel", "self-contact")),
+        _simulated_scene("twisting", "a sheet dropped on a ball spinning about the vertical, with self-contact",
+                         "Twisting", cloth.twisting, _grid_triangles, 180, 60,
+                         CLOTH + ("sphere", "plane", "self-contact")),
+        _simulated_scene("flowing", "a sheet pinned at two corners in gusty wind, with self-contact", "FlowingCloth",
+                         cloth.flowing, _grid_triangles, 159, 60,
+                         CLOTH + ("wind", "pinned", "tethers", "self-contact")),
+        _simulated_scene("falling", "a robe thrown down fast over a body proxy, with self-contact", "Falling",
+                         cloth.falling, lambda r: len(cloth.robe_sheet(r)[0]), 295, 45,
+                         CLOTH + ("capsule", "sphere", "plane", "self-contact")),
+        Scene("flamenco", "a keyframed skirt with ruffles that lean over and press together", "Flamenco",
+              _flamenco, lambda r: 10 * r * r, 70, 60),
+        Scene("squishy", "a ball with 96 tentacles dropped and squashed on the ground", "SquishyBall",
+              _squishy, lambda r: len(squishy.squishy_ball(r)[0]), 160, 20),
     )
 }
 
@@ -119,10 +122,12 @@ def cache_dir() -> Path:
 
 
 def _code_digest() -> str:
-    """The generators' source: editing a generator invalidates its cached sequences."""
+    """The datasets package's source (generators, scenes, simulator): editing any of it
+    invalidates cached sequences."""
     h = hashlib.sha256()
-    for mod in (generated, __import__(__name__, fromlist=["_"])):
-        h.update(Path(mod.__file__).read_bytes())
+    root = Path(__file__).parent
+    for f in sorted(root.rglob("*.py")):
+        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:16]
 
 
@@ -146,7 +151,7 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     if path.exists():
         with np.load(path) as z:
             return z["faces"], z["positions"]
-    F, P = scene.generate(int(resolution), int(frames))
+    F, P = scene.generate(int(resolution), int(frames), scene.dt)
     F, P = np.asarray(F, np.int64), np.asarray(P, np.float64)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp.npz")
@@ -159,9 +164,7 @@ def describe() -> list[str]:
     """One line per scene: name, triangles at default resolution, frames, effects, stands for."""
     lines = []
     for s in SCENES.values():
-        F, _ = s.generate(s.default_resolution, 1) if not s.effects else generated.grid_sheet(s.default_resolution,
-                                                                                                s.default_resolution)
         effects = ", ".join(s.effects) if s.effects else "kinematic"
-        lines.append(f"{s.name:10s} {len(F):8d} triangles {s.default_frames:4d} frames  {effects:24s} "
-                     f"{s.stands_for}: {s.description}")
+        lines.append(f"{s.name:9s} {s.triangles(s.default_resolution):8d} triangles {s.default_frames:4d} frames  "
+                     f"{s.stands_for:12s} {effects:52s} {s.description}")
     return lines

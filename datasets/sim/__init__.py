@@ -2,8 +2,8 @@
 only those are ever constructed or computed (`Simulator.calls` counts what ran)."""
 
 from conecull.datasets.sim.effects import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices,
-                                           PlaneCollider, SelfContact, SphereCollider, Stretch, Wind)
+                                           PlaneCollider, SelfContact, SphereCollider, Stretch, Tethers, Wind)
 from conecull.datasets.sim.simulator import Simulator
 
 __all__ = ["Simulator", "Gravity", "PinnedVertices", "Wind", "Stretch", "Bend", "PlaneCollider", "SphereCollider",
-           "SelfContact", "FunnelCollider", "CapsuleCollider"]
+           "SelfContact", "FunnelCollider", "CapsuleCollider", "Tethers"]

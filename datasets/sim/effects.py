@@ -12,6 +12,7 @@ import numpy as np
 
 
 class Effect:
+    name: str = ""       # what a scene declares to get this effect
     stages: tuple = ()
 
     def setup(self, sim) -> None:  # precomputation from the rest pose
@@ -19,6 +20,7 @@ class Effect:
 
 
 class Gravity(Effect):
+    name = "gravity"
     stages = ("force",)
 
     def __init__(self, g=(0.0, 0.0, -9.81)):
@@ -30,6 +32,7 @@ class Gravity(Effect):
 
 class Wind(Effect):
     """Air drag towards a wind velocity, per vertex, scaled by how much the surface faces it."""
+    name = "wind"
     stages = ("force",)
 
     def __init__(self, velocity=(2.0, 0.0, 0.0), drag=0.8, gust=0.3, seed=0):
@@ -45,6 +48,7 @@ class Wind(Effect):
 
 
 class PinnedVertices(Effect):
+    name = "pinned"
     stages = ("pin",)
 
     def __init__(self, indices, motion=None):
@@ -58,8 +62,30 @@ class PinnedVertices(Effect):
         sim.p[self.indices] = self.rest if self.motion is None else self.motion(t, self.rest)
 
 
+class Tethers(Effect):
+    """Long-range attachments (Kim, Chentanez and Mueller 2012): no vertex may get farther from
+    a pinned vertex than in the rest pose. A few Jacobi iterations cannot carry a pin's pull
+    across hundreds of edges, so without these a pinned fine cloth sags like rubber."""
+    name = "tethers"
+    stages = ("constrain",)
+
+    def __init__(self, pins):
+        self.pins = np.asarray(pins, int)
+
+    def setup(self, sim):
+        self.rest = np.linalg.norm(sim.x[:, None, :] - sim.x[None, self.pins, :], axis=2)  # (n, pins)
+
+    def constrain(self, sim, dt):
+        for k, pin in enumerate(self.pins):
+            d = sim.p - sim.p[pin]
+            length = np.linalg.norm(d, axis=1)
+            over = length > self.rest[:, k]
+            sim.p[over] = sim.p[pin] + d[over] * (self.rest[over, k] / length[over])[:, None]
+
+
 class Stretch(Effect):
     """XPBD distance constraints on the mesh edges (rest lengths from the rest pose)."""
+    name = "stretch"
     stages = ("constrain",)
 
     def __init__(self, compliance=1e-7):
@@ -75,6 +101,7 @@ class Stretch(Effect):
 
 class Bend(Effect):
     """Bending as XPBD distances between the opposite vertices of edge-adjacent triangles."""
+    name = "bend"
     stages = ("constrain",)
 
     def __init__(self, compliance=1e-4):
@@ -106,16 +133,18 @@ def _distance_pass(sim, e, rest, alpha):
     w0, w1 = sim.inv_mass[e[:, 0]], sim.inv_mass[e[:, 1]]
     lam = -(length - rest) / (w0 + w1 + alpha + 1e-12)
     corr = (lam / length)[:, None] * d
-    delta = np.zeros_like(p)
-    count = np.zeros(len(p))
-    np.add.at(delta, e[:, 0], -w0[:, None] * corr)
-    np.add.at(delta, e[:, 1], w1[:, None] * corr)
-    np.add.at(count, e[:, 0], 1)
-    np.add.at(count, e[:, 1], 1)
+    delta = _scatter_add(e[:, 0], -w0[:, None] * corr, len(p)) + _scatter_add(e[:, 1], w1[:, None] * corr, len(p))
+    count = np.bincount(e.ravel(), minlength=len(p))
     sim.p += 1.5 * delta / np.maximum(count, 1)[:, None]  # over-relaxed Jacobi
 
 
+def _scatter_add(index, values, n):
+    """sum of values (k, 3) into n rows by index; np.bincount per column is ~10x np.add.at."""
+    return np.column_stack([np.bincount(index, weights=values[:, c], minlength=n) for c in range(3)])
+
+
 class PlaneCollider(Effect):
+    name = "plane"
     stages = ("collide",)
 
     def __init__(self, height=0.0, friction=0.5, offset=0.002):
@@ -130,6 +159,7 @@ class PlaneCollider(Effect):
 
 class SphereCollider(Effect):
     """A (possibly rotating) sphere; contact drags the cloth along the surface velocity."""
+    name = "sphere"
     stages = ("collide",)
 
     def __init__(self, center=(0.0, 0.0, 0.0), radius=0.3, angular_velocity=(0.0, 0.0, 0.0), friction=0.6,
@@ -158,6 +188,7 @@ class SelfContact(Effect):
     position, and the step is checked again until no contact is left (freezing everything
     would be contact-free, so this ends). From an intersection-free state the cloth can then
     never pass through itself."""
+    name = "self-contact"
     stages = ("contact",)
 
     def __init__(self, max_rounds=50):
@@ -188,6 +219,7 @@ class FunnelCollider(Effect):
     """A funnel: the inside of a cone around the z axis (radius r_hole at z_bottom, widening
     with slope tan(angle)); cloth inside it cannot leave through the wall, cloth below
     z_bottom has fallen through the hole."""
+    name = "funnel"
     stages = ("collide",)
 
     def __init__(self, z_bottom=0.0, z_top=0.8, r_hole=0.08, angle=np.radians(35.0), friction=0.4, offset=0.004):
@@ -216,6 +248,7 @@ class FunnelCollider(Effect):
 
 class CapsuleCollider(Effect):
     """A capsule (segment a-b thickened by radius), e.g. a body proxy."""
+    name = "capsule"
     stages = ("collide",)
 
     def __init__(self, a=(0.0, 0.0, 0.0), b=(0.0, 0.0, 1.0), radius=0.15, friction=0.5, offset=0.004):

@@ -7,13 +7,20 @@ from collections import Counter
 import numpy as np
 
 import conecull
+from conecull.datasets.sim.effects import _scatter_add
 
 
 class Simulator:
-    def __init__(self, faces, positions, effects, *, dt=1.0 / 60.0, substeps=4, iterations=8):
+    def __init__(self, faces, positions, effects, *, dt=1.0 / 60.0, substeps=4, iterations=8, velocity=(0.0, 0.0, 0.0),
+                 declared=None):
+        """`declared`: the effect names a scene declares; the effects given must be exactly those."""
+        if declared is not None:
+            given = {e.name for e in effects}
+            if given != set(declared):
+                raise ValueError(f"effects: the scene declares {sorted(declared)} but builds {sorted(given)}")
         self.faces = np.asarray(faces, np.int64)
         self.x = np.asarray(positions, np.float64).copy()
-        self.v = np.zeros_like(self.x)
+        self.v = np.zeros_like(self.x) + np.asarray(velocity, np.float64)  # initial velocity
         self.p = self.x.copy()
         self.mesh = conecull.Mesh(self.faces, n_vertices=len(self.x))
         self.edges = self.mesh.edges
@@ -30,9 +37,7 @@ class Simulator:
     def vertex_normals(self):
         F, X = self.faces, self.x
         fn = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
-        n = np.zeros_like(X)
-        for k in range(3):
-            np.add.at(n, F[:, k], fn)
+        n = sum(_scatter_add(F[:, k], fn, len(X)) for k in range(3))
         return n / (np.linalg.norm(n, axis=1, keepdims=True) + 1e-12)
 
     def _run(self, stage, *args):

@@ -30,7 +30,7 @@ def test_every_scene_small_and_deterministic(name):
     assert F.ndim == 2 and F.shape[1] == 3 and P.shape[0] == 4 and P.shape[2] == 3
     assert np.isfinite(P).all() and F.max() < P.shape[1]
     scene = datasets.SCENES[name]
-    F2, P2 = scene.generate(8, 4)
+    F2, P2 = scene.generate(8, 4, scene.dt)
     assert np.array_equal(F, F2) and np.array_equal(P, P2)
     conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1])).dcd(P[-1])
 
@@ -56,6 +56,46 @@ def test_teaching_scenes_do_what_they_say():
     F, P = datasets.load("bend", resolution=16, frames=5)
     col = conecull.SelfCollider(conecull.Mesh(F))
     assert all(len(col.dcd(V).pairs) == 0 for V in P)
+
+
+def test_listing_states_the_paper_scene_each_stands_for():
+    lines = datasets.describe()
+    for paper in ("Funnel", "Twisting", "FlowingCloth", "Falling", "Flamenco", "SquishyBall"):
+        assert sum(paper in line for line in lines) == 1
+    for s in datasets.SCENES.values():  # the listing's triangle count is the generated one
+        if s.triangles(8) < 5000:
+            F, _ = s.generate(8, 1, s.dt)
+            assert len(F) == s.triangles(8), s.name
+
+
+def test_paper_sized_defaults():
+    """Default resolutions give the paper's sizes (Sec. 5.2), within 10%."""
+    target = {"funnel": 64_000, "twisting": 64_000, "flowing": 50_000, "falling": 170_000, "flamenco": 49_000,
+              "squishy": 1_000_000}
+    for name, n in target.items():
+        s = datasets.SCENES[name]
+        assert abs(s.triangles(s.default_resolution) - n) <= 0.1 * n, name
+
+
+def test_squishy_ball_is_one_closed_consistently_oriented_surface():
+    from conecull.datasets import squishy
+
+    F, V, tentacle, _ = squishy.squishy_ball(24)
+    he = np.concatenate([F[:, [0, 1]], F[:, [1, 2]], F[:, [2, 0]]])
+    assert len(np.unique(he, axis=0)) == len(he)  # no directed edge twice: consistent orientation
+    assert set(map(tuple, he.tolist())) == set(map(tuple, he[:, ::-1].tolist()))  # closed
+    m = conecull.Mesh(F, n_vertices=len(V))
+    assert m.n_components == 1 and len(m.nonmanifold_vertices) == 0 and tentacle.max() + 1 == 96
+    n = np.cross(V[F[:, 1]] - V[F[:, 0]], V[F[:, 2]] - V[F[:, 0]])
+    assert np.einsum("ij,ij->", V[F[:, 0]], n) > 0  # outward: positive volume
+    assert len(conecull.SelfCollider(m).dcd(V).pairs) == 0  # the rest pose does not touch itself
+
+
+def test_flamenco_folds_press_together_later():
+    F, P = datasets.load("flamenco", resolution=24, frames=30)
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    counts = [len(col.dcd(V).pairs) for V in P]
+    assert counts[0] == 0 and max(counts[15:]) > 0
 
 
 @pytest.mark.parametrize("kwargs,match", [

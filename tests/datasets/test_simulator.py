@@ -41,11 +41,14 @@ def test_declared_effects_all_run_and_are_deterministic():
     assert np.isfinite(Xa).all() and Xa[-1][:, 2].min() >= -1e-9  # the floor holds
 
 
-@pytest.mark.parametrize("name", ["drape", "ball", "funnel"])
+SIMULATED = ["funnel", "twisting", "flowing", "falling"]
+
+
+@pytest.mark.parametrize("name", SIMULATED)
 def test_simulated_scenes_small(name):
     from conecull import datasets
 
-    F, P = datasets.load(name, resolution=8, frames=6)
+    F, P = datasets.load(name, resolution=10, frames=6)
     assert np.isfinite(P).all()
     edge = np.linalg.norm(P[:, F[:, 1]] - P[:, F[:, 0]], axis=2)
     assert edge.max() < 3.0 * edge[0].max()  # stretch constraints keep the cloth from exploding
@@ -75,6 +78,23 @@ def test_self_contact_keeps_a_squeezed_cloth_free_of_intersections():
 
     assert max(run([])) > 0  # the scenario really self-intersects without self-contact
     assert max(run([SelfContact()])) == 0
+
+
+@pytest.mark.parametrize("name", SIMULATED)
+def test_a_scene_runs_exactly_the_effects_it_declares(name):
+    """Every declared effect runs; nothing else is even constructed (the simulator refuses a
+    set-up whose effects differ from the declaration)."""
+    from conecull.datasets import cloth, registry
+
+    scene = registry.SCENES[name]
+    F, V, built, options = getattr(cloth, name)(8)
+    sim = Simulator(F, V, built, dt=scene.dt, declared=scene.effects, **options)
+    sim.run(3)
+    assert {e.name for e in built} == set(scene.effects)
+    ran = {type(e).__name__ for e in built}
+    assert {cls for cls, _ in sim.calls} == ran
+    with pytest.raises(ValueError, match="effects: the scene declares"):
+        Simulator(F, V, built, declared=scene.effects + ("wind",) if "wind" not in scene.effects else ("gravity",))
 
 
 def test_colliders_push_out():
