@@ -17,6 +17,7 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("record", help="trace a mesh sequence and write a rerun recording (.rrd)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--out", default="run.rrd", help="recording to write (default run.rrd)")
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
     p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
@@ -28,6 +29,7 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--port", type=int, default=8080, help="port (viser moves to the next free one; the real one is printed)")
     p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
@@ -35,11 +37,15 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
     p.add_argument("input", help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--frame", type=int, required=True)
     p.add_argument("--node", type=int, required=True)
     p.add_argument("--method", choices=["aabb", "nc"], default="nc")
 
-    sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
+    p = sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
+    p.add_argument("--generate", nargs="*", metavar="NAME",
+                   help="generate (or read from the cache) these scenes at their defaults, all if none given, "
+                        "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
     p.add_argument("suite", choices=["dcd", "trace", "ccd"],
@@ -74,15 +80,25 @@ def _run(args) -> int:
 
         return run_demo(args.out, args.method)
     if args.command == "scenes":
-        from conecull.datasets import describe
+        from conecull.datasets import describe, load, names
 
-        print("\n".join(describe()))
+        if args.generate is None:
+            print("\n".join(describe()))
+            return 0
+        import time
+
+        for name in args.generate or names():
+            if name not in names():
+                raise ValueError(f"NAME: unknown scene '{name}'; known: {', '.join(names())}")
+            t = time.perf_counter()
+            F, P = load(name)
+            print(f"{name:9s} {len(F):8d} triangles {len(P):4d} frames  {time.perf_counter() - t:8.1f} s", flush=True)
         return 0
     if args.command == "record":
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
         from conecull.viz.rerun_sink import record
 
-        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions)
+        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
                        progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
@@ -95,7 +111,7 @@ def _run(args) -> int:
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
         from conecull.viz.viser_app import ViewerApp, serve_forever
 
-        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions)
+        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method))
         return 0
     if args.command == "explain":
@@ -103,7 +119,7 @@ def _run(args) -> int:
         from conecull.datasets.inputs import load_sequence
         from conecull.viz.explain import explain_node
 
-        F, frames = load_sequence(args.input, args.positions)
+        F, frames = load_sequence(args.input, args.positions, args.resolution)
         if not 0 <= args.frame < len(frames):
             raise ValueError(f"--frame: {args.frame} is out of range: the input has frames 0..{len(frames) - 1}")
         col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)

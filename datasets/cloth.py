@@ -25,7 +25,7 @@ def twisting(resolution: int):
     folds around the ball, with self-contact (Twisting)."""
     F, V = generated.grid_sheet(resolution, resolution)
     V = V - [0.5, 0.5, 0.0] + [0.0, 0.0, 0.34]
-    return F, V, [Gravity(), Stretch(), Bend(1e-3), SphereCollider((0, 0, 0.0), 0.3, (0, 0, 6.0), friction=0.8),
+    return F, V, [Gravity(), Stretch(), Bend(1e-3), SphereCollider((0, 0, 0.0), 0.3, (0, 0, 2.5), friction=0.6),
                   PlaneCollider(-0.31), SelfContact()], {}
 
 
@@ -33,7 +33,7 @@ def flowing(resolution: int):
     """A hanging sheet pinned at its two top corners, flowing in gusty wind, with self-contact
     (FlowingCloth). Tethers (long-range attachments) keep it from sagging like rubber."""
     F, V = generated.grid_sheet(resolution, resolution)
-    V = V[:, [0, 2, 1]] * [1.0, 1.0, -1.0] + [0.0, 0.0, 1.0]  # hang it vertically (x, z)
+    V = V[:, [0, 2, 1]]  # hang it vertically in the x-z plane, top row (pinned corners) at z = 1
     corners = [resolution * (resolution - 1), resolution * resolution - 1]  # the top row's ends
     return F, V, [Gravity(), Wind((0.0, 3.0, 0.0)), Stretch(), Bend(), PinnedVertices(corners), Tethers(corners),
                   SelfContact()], {}

@@ -36,14 +36,16 @@ def _load_mesh(path: str):
     return np.asarray(m.faces, dtype=np.int64), np.asarray(m.vertices, dtype=np.float64)
 
 
-def load_sequence(source: str, positions: str | None = None):
+def load_sequence(source: str, positions: str | None = None, resolution: int | None = None):
     """Faces (m, 3) and frames (T, n, 3) from a scene name or path (see module doc)."""
     from conecull.datasets.registry import SCENES, load
 
     if source in SCENES and positions is None and not os.path.exists(source):
-        return load(source)
+        return load(source, resolution=resolution)
     if not os.path.exists(source):
         raise FileNotFoundError(f"INPUT: '{source}' is neither a scene ({', '.join(SCENES)}) nor an existing path")
+    if resolution is not None:
+        raise ValueError(f"resolution: only for a built-in scene, not for '{source}'")
     if os.path.isdir(source):
         if positions is not None:
             raise ValueError("positions: only with a single mesh file, not with a folder of frames")

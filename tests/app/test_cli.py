@@ -65,10 +65,32 @@ def test_folder_and_npz_inputs(tmp_path, capsys):
     (["record", "fold", "--frames", "x"], "expected A:B or K"),
     (["explain", "fold", "--frame", "99", "--node", "0"], "--frame: 99 is out of range"),
     (["explain", "fold", "--frame", "0", "--node", "99999"], "--node: 99999 is out of range"),
+    (["record", "no/such/path", "--resolution", "8"], "neither a scene"),
+    (["record", "fold", "--resolution", "1"], "resolution: expected an integer >= 3"),
+    (["scenes", "--generate", "nope"], "NAME: unknown scene 'nope'"),
 ])
 def test_cli_errors(argv, msg, capsys):
     assert main(argv) == 2
     assert msg in capsys.readouterr().err
+
+
+def test_scene_resolution_and_generate(tmp_path, capsys):
+    out = tmp_path / "f.rrd"
+    assert main(["record", "funnel", "--resolution", "8", "--frames", "0:2", "--out", str(out)]) == 0
+    assert "98 triangles" in capsys.readouterr().out  # 2 (8 - 1)^2: the resolution reached the scene
+    assert main(["scenes", "--generate", "roll", "bend"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == ["roll", "bend"] and all(line.endswith(" s") for line in lines)
+
+
+def test_resolution_is_only_for_scenes(tmp_path, capsys):
+    F, frames = folding_sheet(50, 2)
+    d = tmp_path / "frames"
+    d.mkdir()
+    for k, V in enumerate(frames):
+        trimesh.Trimesh(V, F, process=False).export(d / f"f{k:03d}.ply")
+    assert main(["record", str(d), "--resolution", "8", "--out", str(tmp_path / "x.rrd")]) == 2
+    assert "resolution: only for a built-in scene" in capsys.readouterr().err
 
 
 def test_unreadable_mesh(tmp_path, capsys):
