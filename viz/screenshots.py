@@ -32,7 +32,7 @@ def _browser(p):
                                                 viewport=VIEWPORT)
 
 
-def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24) -> None:
+def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution: int | None = None) -> None:
     """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC."""
     import rerun as rr
     import rerun_cli
@@ -48,7 +48,7 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24) -> None:
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         time.sleep(3)
-        F, frames = load_sequence(scene)
+        F, frames = load_sequence(scene, resolution=resolution)
         col = conecull.SelfCollider(conecull.Mesh(F))
         col.dcd(frames[0])
         rec = RerunRecorder.__new__(RerunRecorder)  # same logging, other sink: gRPC instead of a file
@@ -107,4 +107,6 @@ if __name__ == "__main__":
     os.makedirs(out, exist_ok=True)
     viser_screenshot(os.path.join(out, "viser.png"))
     rerun_screenshot(os.path.join(out, "rerun.png"))
-    print(f"wrote {out}/viser.png and {out}/rerun.png")
+    # a paper-sized simulated scene in the debugger (generates `funnel` first if not cached: minutes)
+    rerun_screenshot(os.path.join(out, "rerun-funnel.png"), scene="funnel", frame=40)
+    print(f"wrote {out}/viser.png, {out}/rerun.png and {out}/rerun-funnel.png")
