@@ -1,0 +1,59 @@
+// The BVTT front of Sec. 4 (Fig. 5), kept by the collider between queries: one sub-segment
+// Front_X per internal BVH node X, a cut of the BVTT of Collide(X->left, X->right).
+//
+// What makes any cut exact: every pair of leaves (one under X->left, one under X->right) lies
+// below exactly one entry, and a parent's box is the union of its children's boxes, so an entry
+// whose boxes are apart has no overlapping pair of leaves below it. Resuming Collide from the
+// entries (descending the overlapping ones) therefore finds exactly the candidates of
+// Collide(X->left, X->right) from the top, however stale the cut is; the cut only decides how
+// much work that takes. This is why fronts need no invalidation for correctness, not even when
+// the motion between queries is large.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "conecull/bvh/bvh.hpp"
+
+namespace conecull {
+
+// A BVTT node A * B: BVH nodes with disjoint triangle sets (A under X->left, B under X->right).
+struct FrontEntry {
+    int32_t a, b;
+};
+
+struct BvttFront {
+    // Front_X, indexed by BVH node. Empty: X was not tracked by the last query of this front
+    // (a leaf, culled, below a culled node, or never visited); tracked sub-segments are never
+    // empty. So the entries stored are exactly the front the last query tracked.
+    std::vector<std::vector<FrontEntry>> segment;
+    int64_t stored = 0;  // entries over all sub-segments
+
+    // Scratch of the sub-segment being rebuilt (reused between nodes and queries), and per
+    // entry whether it may merge with a sibling: its boxes are apart and it was not just made by
+    // descending a parent whose boxes overlap.
+    std::vector<FrontEntry> next;
+    std::vector<uint8_t> mergeable;
+
+    void reset(const Bvh& bvh) {
+        segment.assign(bvh.nodes.size(), {});
+        stored = 0;
+    }
+
+    // The BVTT node whose children are the sibling entries e1, e2 (e1 the left one), if they are
+    // siblings: (p, b) for the parent p of e1.a, e2.a, or (a, q) for the parent q of e1.b, e2.b.
+    // Left children are parent + 1 in the pre-order BVH. Merging them keeps the cut a cut.
+    static bool parent_of(const Bvh& bvh, FrontEntry e1, FrontEntry e2, FrontEntry& parent) {
+        if (e1.b == e2.b && bvh.nodes[e1.a - 1].right == e2.a) {
+            parent = {e1.a - 1, e1.b};
+            return true;
+        }
+        if (e1.a == e2.a && bvh.nodes[e1.b - 1].right == e2.b) {
+            parent = {e1.a, e1.b - 1};
+            return true;
+        }
+        return false;
+    }
+};
+
+}  // namespace conecull
