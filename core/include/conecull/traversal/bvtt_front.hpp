@@ -23,22 +23,31 @@ struct FrontEntry {
 };
 
 struct BvttFront {
-    // Front_X, indexed by BVH node. Empty: X was not tracked by the last query of this front
-    // (a leaf, culled, below a culled node, or never visited); tracked sub-segments are never
-    // empty. So the entries stored are exactly the front the last query tracked.
-    std::vector<std::vector<FrontEntry>> segment;
-    int64_t stored = 0;  // entries over all sub-segments
+    // The sub-segments tracked by the last query, one after another in traversal order; Front_X
+    // is entries[begin[X], begin[X] + count[X]) if tracked[X] == query, i.e. X was visited and
+    // not culled by the last query. Nothing else is kept: a culled region keeps no front (the
+    // memory Alg. 4 saves) and is rebuilt from the top when it is not culled again.
+    std::vector<FrontEntry> entries;
+    std::vector<int64_t> begin;
+    std::vector<int32_t> count;
+    std::vector<uint64_t> tracked;
+    uint64_t query = 0;  // queries answered with this front (so 0: never tracked)
 
-    // Scratch of the sub-segment being rebuilt (reused between nodes and queries), and per
-    // entry whether it may merge with a sibling: its boxes are apart and it was not just made by
-    // descending a parent whose boxes overlap.
+    // Being built by the current query: the new sub-segments, and per entry whether it may
+    // merge with a sibling (its boxes are apart and it was not just made by descending a
+    // parent whose boxes overlap).
     std::vector<FrontEntry> next;
     std::vector<uint8_t> mergeable;
 
     void reset(const Bvh& bvh) {
-        segment.assign(bvh.nodes.size(), {});
-        stored = 0;
+        entries.clear();
+        begin.assign(bvh.nodes.size(), 0);
+        count.assign(bvh.nodes.size(), 0);
+        tracked.assign(bvh.nodes.size(), 0);
+        query = 0;
     }
+
+    bool is_tracked(int32_t x) const { return query > 0 && tracked[x] == query; }
 
     // The BVTT node whose children are the sibling entries e1, e2 (e1 the left one), if they are
     // siblings: (p, b) for the parent p of e1.a, e2.a, or (a, q) for the parent q of e1.b, e2.b.

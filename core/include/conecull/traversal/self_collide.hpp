@@ -51,10 +51,19 @@ class SelfCollideTraversal {
           front_(front) {}
 
     void run() {
+        if constexpr (kTrackFront) {
+            front_->next.clear();
+            front_->mergeable.clear();
+        }
         if (bvh_.size() > 0) self_collide(0);
         if constexpr (kTrackFront) {
-            stats_.front_entries = front_->stored;
-            stats_.front_bytes = front_->stored * static_cast<int64_t>(sizeof(FrontEntry));
+            BvttFront& f = *front_;
+            const auto kept = static_cast<int64_t>(f.next.size());
+            stats_.front_removed = static_cast<int64_t>(f.entries.size()) + stats_.front_added - kept;
+            f.entries.swap(f.next);
+            ++f.query;
+            stats_.front_entries = kept;
+            stats_.front_bytes = kept * static_cast<int64_t>(sizeof(FrontEntry));
         }
     }
 
@@ -65,12 +74,9 @@ class SelfCollideTraversal {
         if (n.end - n.begin < 2) return;  // Alg. 2 / 4 line 1: a single triangle cannot self-collide
         ++stats_.self_tests;
         if constexpr (kUseCones) {
-            if (is_self_collision_free(i)) {  // Alg. 2 / 4 lines 5-8
-                // The culled region keeps no front (that is the memory Alg. 4 saves): Front_N and
-                // those below are dropped, and rebuilt from the top if N fails the tests again.
-                if constexpr (kTrackFront) drop_front(i);
-                return;
-            }
+            // Alg. 2 / 4 lines 5-8. With a front, Front_N and those below are not tracked, so
+            // not kept (bvtt_front.hpp): rebuilt from the top if N fails the tests again.
+            if (is_self_collision_free(i)) return;
         }
         if (n.is_leaf()) {
             for (int32_t a = n.begin; a < n.end; ++a)
@@ -159,35 +165,34 @@ class SelfCollideTraversal {
     // shrinks where two sibling entries and their parent are apart (they merge into the parent).
     void front_tracking(int32_t n) {
         BvttFront& f = *front_;
-        std::vector<FrontEntry>& seg = f.segment[n];
-        if (seg.empty()) {  // not tracked by the last query: start from the root of the BVTT, L * R
-            seg.push_back({Bvh::left(n), bvh_[n].right});
-            ++f.stored;
-            ++stats_.front_added;
-        }
-        f.next.clear();
-        f.mergeable.clear();
-        for (const FrontEntry e : seg) {
-            ++stats_.bv_tests;
-            const BvhNode& na = bvh_[e.a];
-            const BvhNode& nb = bvh_[e.b];
-            const bool overlap = na.box.overlaps(nb.box);
-            if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
-            if (!overlap) {
-                f.next.push_back(e);
-                f.mergeable.push_back(true);
-                merge_apart_siblings();
-            } else if (na.is_leaf() && nb.is_leaf()) {
-                emit_leaves(na, nb);
-                f.next.push_back(e);
-                f.mergeable.push_back(false);
-            } else {
-                ++stats_.front_removed;  // the front grows below e
-                descend<true>(e.a, e.b);
+        const size_t start = f.next.size();
+        if (!f.is_tracked(n)) {
+            collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
+        } else {
+            const FrontEntry* seg = f.entries.data() + f.begin[n];
+            for (int32_t k = 0; k < f.count[n]; ++k) {
+                const FrontEntry e = seg[k];
+                ++stats_.bv_tests;
+                const BvhNode& na = bvh_[e.a];
+                const BvhNode& nb = bvh_[e.b];
+                const bool overlap = na.box.overlaps(nb.box);
+                if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
+                if (!overlap) {
+                    f.next.push_back(e);
+                    f.mergeable.push_back(true);
+                    merge_apart_siblings(start);
+                } else if (na.is_leaf() && nb.is_leaf()) {
+                    emit_leaves(na, nb);
+                    f.next.push_back(e);
+                    f.mergeable.push_back(false);
+                } else {
+                    descend<true>(e.a, e.b);  // the front grows below e
+                }
             }
         }
-        f.stored += static_cast<int64_t>(f.next.size()) - static_cast<int64_t>(seg.size());
-        seg.assign(f.next.begin(), f.next.end());
+        f.begin[n] = static_cast<int64_t>(start);
+        f.count[n] = static_cast<int32_t>(f.next.size() - start);
+        f.tracked[n] = f.query + 1;
     }
 
     void push_front(FrontEntry e, bool mergeable) {
@@ -196,11 +201,12 @@ class SelfCollideTraversal {
         ++stats_.front_added;
     }
 
-    // The front shrinks: while the last two entries are apart siblings and their parent's boxes
-    // are apart too, replace them by the parent (which may merge again, with its own sibling).
-    void merge_apart_siblings() {
+    // The front shrinks: while the last two entries of the sub-segment (from `start`) are apart
+    // siblings and their parent's boxes are apart too, replace them by the parent (which may
+    // merge again, with its own sibling).
+    void merge_apart_siblings(size_t start) {
         BvttFront& f = *front_;
-        while (f.next.size() >= 2 && f.mergeable[f.next.size() - 1] && f.mergeable[f.next.size() - 2]) {
+        while (f.next.size() - start >= 2 && f.mergeable[f.next.size() - 1] && f.mergeable[f.next.size() - 2]) {
             FrontEntry p;
             if (!BvttFront::parent_of(bvh_, f.next[f.next.size() - 2], f.next.back(), p)) return;
             ++stats_.bv_tests;
@@ -209,24 +215,8 @@ class SelfCollideTraversal {
             if (overlap) return;
             f.next.resize(f.next.size() - 2);
             f.mergeable.resize(f.mergeable.size() - 2);
-            f.next.push_back(p);
-            f.mergeable.push_back(true);
-            stats_.front_removed += 2;
-            ++stats_.front_added;
+            push_front(p, true);
         }
-    }
-
-    // N was culled: its sub-segment and those of the nodes below it are freed. They were tracked
-    // by the last query (tracked nodes are closed upwards), so this walk costs no more than that
-    // query's tracking of them did; a node without a sub-segment has none below it.
-    void drop_front(int32_t n) {
-        std::vector<FrontEntry>& seg = front_->segment[n];
-        if (seg.empty()) return;
-        front_->stored -= static_cast<int64_t>(seg.size());
-        stats_.front_removed += static_cast<int64_t>(seg.size());
-        std::vector<FrontEntry>().swap(seg);
-        drop_front(Bvh::left(n));
-        drop_front(bvh_[n].right);
     }
 
     void emit(int32_t s, int32_t t) { out_.emplace_back(s < t ? s : t, s < t ? t : s); }
