@@ -66,8 +66,10 @@ def test_trace_must_be_bool():
 
 
 def test_bad_method_and_mesh():
-    with pytest.raises(ValueError, match=r"method: expected one of \('aabb', 'nc'\), got 'sct'"):
+    with pytest.raises(ValueError, match=r"method: expected one of \('aabb', 'nc', 'aabb\+front', 'nc\+front'\), got 'sct'"):
         conecull.SelfCollider(conecull.Mesh(F), method="sct")
+    with pytest.raises(ValueError, match=r"method: expected one of .*, got 'nc\+fronts'"):
+        conecull.SelfCollider(conecull.Mesh(F), method="nc+fronts")
     with pytest.raises(ValueError, match=r"mesh: expected a conecull.Mesh, got ndarray"):
         conecull.SelfCollider(F)
     with pytest.raises(ValueError, match=r"leaf_size: expected an integer in \[1, 64\]"):
@@ -86,6 +88,8 @@ def test_core_rejects_bad_shapes_too():
         _core.build_topology(np.array([[0, 1, 99]], dtype=np.int32), 25)
     with pytest.raises(ValueError, match="method: unknown method"):
         _core.SelfCollider(topo, "xyz", 1)
+    with pytest.raises(ValueError, match=r"method: unknown method 'front'; expected one of 'aabb', 'nc', 'aabb\+front'"):
+        _core.SelfCollider(topo, "front", 1)
 
 
 def test_float32_accepted_and_same_result():

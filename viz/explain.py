@@ -61,8 +61,8 @@ def explain_node(col, res, node: int) -> str:
         lines.append(f"verdict: not examined: its ancestor {above[0]} was culled, which covers this node.")
     elif nt < 2:
         lines.append("verdict: not examined: a single triangle cannot collide with itself (Alg. 2 line 1).")
-    elif res.stats.get("method") == "aabb":
-        lines.append("verdict: not examined: method 'aabb' uses no normal cones.")
+    elif res.stats.get("method") in ("aabb", "aabb+front"):
+        lines.append(f"verdict: not examined: method '{res.stats['method']}' uses no normal cones.")
     else:
         lines.append("verdict: not examined by normal cones in this query.")
     return "\n".join(lines)

@@ -44,6 +44,10 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     for (int r = 1; r < static_cast<int>(s.contour_reasons.size()); ++r) reasons[reason_name(r)] = s.contour_reasons[r];
     d["contour_failed_by_reason"] = reasons;
     d["contour_edges"] = s.contour_edges;
+    d["front_entries"] = s.front_entries;
+    d["front_bytes"] = s.front_bytes;
+    d["front_added"] = s.front_added;
+    d["front_removed"] = s.front_removed;
     d["elementary_tests"] = s.elementary_tests;
     d["colliding_pairs"] = s.colliding_pairs;
     d["seconds_refit"] = s.seconds_refit;

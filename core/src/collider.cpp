@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <type_traits>
 
 #include "conecull/elementary/triangle_triangle.hpp"
 #include "conecull/trace/null_tracer.hpp"
@@ -35,10 +36,21 @@ void with_tracer(RecordingTracer* tracer, const Bvh& bvh, Body body) {
 Method parse_method(const std::string& name) {
     if (name == "aabb") return Method::kAabb;
     if (name == "nc") return Method::kNc;
-    throw std::invalid_argument("method: unknown method '" + name + "'; expected one of 'aabb', 'nc'");
+    if (name == "aabb+front") return Method::kAabbFront;
+    if (name == "nc+front") return Method::kNcFront;
+    throw std::invalid_argument("method: unknown method '" + name +
+                                "'; expected one of 'aabb', 'nc', 'aabb+front', 'nc+front'");
 }
 
-const char* method_name(Method m) { return m == Method::kAabb ? "aabb" : "nc"; }
+const char* method_name(Method m) {
+    switch (m) {
+        case Method::kAabb: return "aabb";
+        case Method::kNc: return "nc";
+        case Method::kAabbFront: return "aabb+front";
+        case Method::kNcFront: return "nc+front";
+    }
+    return "unknown";
+}
 
 SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size)
     : topo_(std::move(topo)), method_(method), leaf_size_(leaf_size) {
@@ -48,19 +60,39 @@ SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, 
 void SelfCollider::build(const double* V) {
     bvh_ = build_bvh(*topo_, V, leaf_size_);
     contours_ = build_contours(bvh_, *topo_);
+    dcd_front_.reset(bvh_);
+    ccd_front_.reset(bvh_);
     built_ = true;
+}
+
+// Stage (2) of Sec. 4.1 with the collider's method; candidates_ receives the triangle pairs.
+template <class Tracer, class Motion>
+void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) {
+    BvttFront& front = std::is_same_v<Motion, Discrete> ? dcd_front_ : ccd_front_;
+    candidates_.clear();
+    switch (method_) {
+        case Method::kAabb:
+            SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+            break;
+        case Method::kNc:
+            SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+            break;
+        case Method::kAabbFront:
+            SelfCollideTraversal<false, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
+                                                              &front).run();
+            break;
+        case Method::kNcFront:
+            SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
+                                                             &front).run();
+            break;
+    }
 }
 
 template <class Tracer>
 void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult& res) {
     DcdStats& st = res.stats;
     auto t0 = Clock::now();
-    candidates_.clear();
-    if (method_ == Method::kNc) {
-        SelfCollideTraversal<true, Tracer>(bvh_, contours_, cones_, Discrete{V}, tracer, st, candidates_).run();
-    } else {
-        SelfCollideTraversal<false, Tracer>(bvh_, contours_, cones_, Discrete{V}, tracer, st, candidates_).run();
-    }
+    traverse(Discrete{V}, tracer, st);
     st.seconds_traversal = seconds_since(t0);
 
     t0 = Clock::now();
@@ -85,7 +117,7 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
     auto t0 = Clock::now();
     if (!built_) build(V);
     else refit_boxes(bvh_, *topo_, V);
-    if (method_ == Method::kNc) refit_cones(bvh_, *topo_, V, cones_);
+    if (uses_cones(method_)) refit_cones(bvh_, *topo_, V, cones_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
     return res;
@@ -125,7 +157,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     auto t0 = Clock::now();
     if (!built_) build(V0);
     refit_boxes_ccd(bvh_, *topo_, V0, V1);
-    if (method_ == Method::kNc) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
+    if (uses_cones(method_)) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
     if (want_toi) {
@@ -150,12 +182,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                                          CcdResult& res) {
     CcdStats& st = res.stats;
     auto t0 = Clock::now();
-    candidates_.clear();
-    const Continuous motion{V0, V1};
-    if (method_ == Method::kNc)
-        SelfCollideTraversal<true, Tracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
-    else
-        SelfCollideTraversal<false, Tracer, Continuous>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+    traverse(Continuous{V0, V1}, tracer, st);
     st.seconds_traversal = seconds_since(t0);
 
     // Low-level culling: every VF / EE pair of the candidate triangle pairs whose primitives'

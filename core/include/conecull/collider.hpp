@@ -18,7 +18,12 @@
 
 namespace conecull {
 
-enum class Method { kAabb, kNc };
+// "aabb", "nc" (Alg. 2), and with a BVTT front kept between queries: "aabb+front" (a
+// conventional front, [TMLT11]) and "nc+front" (Alg. 4). All four give the same candidates as
+// their method without a front, hence the same results.
+enum class Method { kAabb, kNc, kAabbFront, kNcFront };
+inline bool uses_cones(Method m) { return m == Method::kNc || m == Method::kNcFront; }
+inline bool tracks_front(Method m) { return m == Method::kAabbFront || m == Method::kNcFront; }
 
 Method parse_method(const std::string& name);  // throws std::invalid_argument
 const char* method_name(Method m);
@@ -66,6 +71,8 @@ class SelfCollider {
 
    private:
     void build(const double* V);
+    template <class Tracer, class Motion>
+    void traverse(const Motion& motion, Tracer& tracer, DcdStats& stats);
     template <class Tracer>
     void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res);
     template <class Tracer>
@@ -78,6 +85,10 @@ class SelfCollider {
     Bvh bvh_;
     Contours contours_;
     std::vector<NormalCone> cones_;
+    // The BVTT fronts of the front methods, one per query kind (DCD, CCD): a CCD query's swept
+    // boxes overlap more, so alternating queries sharing one front would keep regrowing it.
+    // (Sharing would still be exact: any cut is; see bvtt_front.hpp.)
+    BvttFront dcd_front_, ccd_front_;
     std::vector<TrianglePair> candidates_;  // reused between queries
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives
     std::vector<uint64_t> vf_keys_, ee_keys_;

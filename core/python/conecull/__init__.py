@@ -5,7 +5,7 @@ Normal Cones": an AABB BVH whose nodes carry normal cones and boundary contours,
 unprojected contour test (Alg. 1, 2), with exact predicates throughout.
 
     mesh = conecull.Mesh(faces)                      # (m, 3) int
-    col = conecull.SelfCollider(mesh, method="nc")   # "aabb" | "nc"
+    col = conecull.SelfCollider(mesh, method="nc")   # "aabb" | "nc" | "aabb+front" | "nc+front"
     res = col.dcd(V)                                 # (n, 3) float64 (float32 accepted)
     res.pairs                                        # (k, 2) int64, i < j, sorted
     res.stats                                        # dict of counters and seconds

@@ -9,7 +9,7 @@ import numpy as np
 from conecull import _core
 from conecull.trace import Trace
 
-METHODS = ("aabb", "nc")
+METHODS = ("aabb", "nc", "aabb+front", "nc+front")
 
 # The exact predicates stay exact while no product of coordinate differences under- or
 # overflows; this range leaves ample room (degree-4 terms within 2^-1000 .. 2^530).
@@ -147,7 +147,8 @@ class DcdResult:
     pairs: np.ndarray
     """(k, 2) int64 colliding triangle ids, i < j, rows sorted lexicographically."""
     stats: dict = field(default_factory=dict)
-    """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs) and seconds per stage."""
+    """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs; front_entries,
+    front_bytes, front_added, front_removed for the front methods, else 0) and seconds per stage."""
     trace: Trace | None = None
     """The query's events (conecull.trace schema) when queried with trace=True."""
 
@@ -173,7 +174,10 @@ class SelfCollider:
     """Self-collision queries on one mesh; keeps the BVH and contours between queries.
 
     The BVH is built from the first pose queried and refit afterwards (topology never changes).
-    method: "aabb" (BVH only) or "nc" (normal cones + unprojected contour test, Alg. 2).
+    method: "aabb" (BVH only) or "nc" (normal cones + unprojected contour test, Alg. 2); or
+    "aabb+front" / "nc+front" (Alg. 4): the same with a BVTT front kept between queries (one
+    per query kind), so each query resumes the box tests where the previous one stopped. The
+    front methods give exactly the results of their method without a front.
     leaf_size: at most this many triangles per BVH leaf (2 measured fastest; see the benchmark).
     """
 

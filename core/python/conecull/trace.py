@@ -46,7 +46,8 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("kernel", "float64", (3,), "length", "kernel point o (mean of the contour vertices)"),
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
         )),
-        EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node).", (
+        EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "
+                  "front (Alg. 4), the front entries and the sibling merges tested too.", (
             Field("pairs", "int64", (), "count", "node pairs visited"),
             Field("overlaps", "int64", (), "count", "of which the boxes overlapped"),
         )),

@@ -1,6 +1,8 @@
 // BVH self-traversal: "aabb" (no cones) and "nc" (Alg. 2, normal cone culling with the
-// unprojected contour test). Both emit each candidate triangle pair exactly once: pairs inside
-// one child are found by its SelfCollide, pairs across the children by Collide(L, R).
+// unprojected contour test), and their front-tracking variants "aabb+front" (a conventional BVTT
+// front, [TMLT11]) and "nc+front" (Alg. 4, the normal cone guided BVTT front). All emit each
+// candidate triangle pair exactly once: pairs inside one child are found by its SelfCollide,
+// pairs across the children by Collide(L, R) or, with a front, by FrontTracking(Front_N).
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include "conecull/ccd/contour_test_ccd.hpp"
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/trace/null_tracer.hpp"
+#include "conecull/traversal/bvtt_front.hpp"
 #include "conecull/traversal/stats.hpp"
 
 namespace conecull {
@@ -36,25 +39,44 @@ struct Continuous {
     }
 };
 
-template <bool kUseCones, class Tracer, class Motion = Discrete>
+// kTrackFront: Collide(L, R) of every node is resumed from the node's BVTT front sub-segment
+// (Alg. 4), kept in `front` between queries.
+template <bool kUseCones, class Tracer, class Motion = Discrete, bool kTrackFront = false>
 class SelfCollideTraversal {
    public:
     SelfCollideTraversal(const Bvh& bvh, const Contours& contours, const std::vector<NormalCone>& cones,
-                         const Motion& motion, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates)
-        : bvh_(bvh), contours_(contours), cones_(cones), motion_(motion), tracer_(tracer), stats_(stats), out_(candidates) {}
+                         const Motion& motion, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates,
+                         BvttFront* front = nullptr)
+        : bvh_(bvh), contours_(contours), cones_(cones), motion_(motion), tracer_(tracer), stats_(stats), out_(candidates),
+          front_(front) {}
 
     void run() {
+        if constexpr (kTrackFront) {
+            front_->next.clear();
+            front_->mergeable.clear();
+        }
         if (bvh_.size() > 0) self_collide(0);
+        if constexpr (kTrackFront) {
+            BvttFront& f = *front_;
+            const auto kept = static_cast<int64_t>(f.next.size());
+            stats_.front_removed = static_cast<int64_t>(f.entries.size()) + stats_.front_added - kept;
+            f.entries.swap(f.next);
+            ++f.query;
+            stats_.front_entries = kept;
+            stats_.front_bytes = kept * static_cast<int64_t>(sizeof(FrontEntry));
+        }
     }
 
    private:
-    // Alg. 2 SelfCollide(N).
+    // Alg. 2 SelfCollide(N); with a front, Alg. 4 SelfCollideWithGuidedFrontTracking(N).
     void self_collide(int32_t i) {
         const BvhNode& n = bvh_[i];
-        if (n.end - n.begin < 2) return;  // Alg. 2 line 1: a single triangle cannot self-collide
+        if (n.end - n.begin < 2) return;  // Alg. 2 / 4 line 1: a single triangle cannot self-collide
         ++stats_.self_tests;
         if constexpr (kUseCones) {
-            if (is_self_collision_free(i)) return;  // Alg. 2 lines 5-8
+            // Alg. 2 / 4 lines 5-8. With a front, Front_N and those below are not tracked, so
+            // not kept (bvtt_front.hpp): rebuilt from the top if N fails the tests again.
+            if (is_self_collision_free(i)) return;
         }
         if (n.is_leaf()) {
             for (int32_t a = n.begin; a < n.end; ++a)
@@ -62,9 +84,13 @@ class SelfCollideTraversal {
             return;
         }
         const int32_t l = Bvh::left(i), r = n.right;
-        self_collide(l);      // Alg. 2 line 11
-        self_collide(r);      // line 12
-        collide(l, r);        // line 13
+        self_collide(l);  // Alg. 2 / 4 line 11
+        self_collide(r);  // line 12
+        if constexpr (kTrackFront) {
+            front_tracking(i);  // Alg. 4 line 13
+        } else {
+            collide<false>(l, r);  // Alg. 2 line 13
+        }
     }
 
     // Alg. 2 lines 5-6: normal cone test, then the unprojected contour test (Alg. 1).
@@ -93,26 +119,103 @@ class SelfCollideTraversal {
         return false;
     }
 
-    // Collide(A, B): nodes with disjoint triangle sets.
+    // Collide(A, B): nodes with disjoint triangle sets. With kRecord, the BVTT nodes where it
+    // stops (boxes apart, or two leaves) are appended to the front sub-segment being rebuilt.
+    template <bool kRecord>
     void collide(int32_t a, int32_t b) {
         ++stats_.bv_tests;
         const BvhNode& na = bvh_[a];
         const BvhNode& nb = bvh_[b];
         const bool overlap = na.box.overlaps(nb.box);
         if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(a, b, overlap);
-        if (!overlap) return;
-        if (na.is_leaf() && nb.is_leaf()) {
-            for (int32_t p = na.begin; p < na.end; ++p)
-                for (int32_t q = nb.begin; q < nb.end; ++q) emit(bvh_.order[p], bvh_.order[q]);
+        if (!overlap) {
+            if constexpr (kRecord) push_front({a, b}, false);  // its parent overlaps: nothing to merge
             return;
         }
-        // Descend the larger node (the only one that can be descended, if the other is a leaf).
+        if (na.is_leaf() && nb.is_leaf()) {
+            emit_leaves(na, nb);
+            if constexpr (kRecord) push_front({a, b}, false);
+            return;
+        }
+        descend<kRecord>(a, b);
+    }
+
+    // Descend the larger node (the only one that can be descended, if the other is a leaf).
+    template <bool kRecord>
+    void descend(int32_t a, int32_t b) {
+        const BvhNode& na = bvh_[a];
+        const BvhNode& nb = bvh_[b];
         if (nb.is_leaf() || (!na.is_leaf() && na.end - na.begin >= nb.end - nb.begin)) {
-            collide(Bvh::left(a), b);
-            collide(na.right, b);
+            collide<kRecord>(Bvh::left(a), b);
+            collide<kRecord>(na.right, b);
         } else {
-            collide(a, Bvh::left(b));
-            collide(a, nb.right);
+            collide<kRecord>(a, Bvh::left(b));
+            collide<kRecord>(a, nb.right);
+        }
+    }
+
+    void emit_leaves(const BvhNode& na, const BvhNode& nb) {
+        for (int32_t p = na.begin; p < na.end; ++p)
+            for (int32_t q = nb.begin; q < nb.end; ++q) emit(bvh_.order[p], bvh_.order[q]);
+    }
+
+    // Alg. 4 line 13, FrontTracking(Front_N): Collide(L, R) resumed from the cut the previous
+    // query left (see bvtt_front.hpp for why any cut gives exactly Collide's candidates). The
+    // front grows where an entry's boxes now overlap (it is descended as Collide would) and
+    // shrinks where two sibling entries and their parent are apart (they merge into the parent).
+    void front_tracking(int32_t n) {
+        BvttFront& f = *front_;
+        const size_t start = f.next.size();
+        if (!f.is_tracked(n)) {
+            collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
+        } else {
+            const FrontEntry* seg = f.entries.data() + f.begin[n];
+            for (int32_t k = 0; k < f.count[n]; ++k) {
+                const FrontEntry e = seg[k];
+                ++stats_.bv_tests;
+                const BvhNode& na = bvh_[e.a];
+                const BvhNode& nb = bvh_[e.b];
+                const bool overlap = na.box.overlaps(nb.box);
+                if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
+                if (!overlap) {
+                    f.next.push_back(e);
+                    f.mergeable.push_back(true);
+                    merge_apart_siblings(start);
+                } else if (na.is_leaf() && nb.is_leaf()) {
+                    emit_leaves(na, nb);
+                    f.next.push_back(e);
+                    f.mergeable.push_back(false);
+                } else {
+                    descend<true>(e.a, e.b);  // the front grows below e
+                }
+            }
+        }
+        f.begin[n] = static_cast<int64_t>(start);
+        f.count[n] = static_cast<int32_t>(f.next.size() - start);
+        f.tracked[n] = f.query + 1;
+    }
+
+    void push_front(FrontEntry e, bool mergeable) {
+        front_->next.push_back(e);
+        front_->mergeable.push_back(mergeable);
+        ++stats_.front_added;
+    }
+
+    // The front shrinks: while the last two entries of the sub-segment (from `start`) are apart
+    // siblings and their parent's boxes are apart too, replace them by the parent (which may
+    // merge again, with its own sibling).
+    void merge_apart_siblings(size_t start) {
+        BvttFront& f = *front_;
+        while (f.next.size() - start >= 2 && f.mergeable[f.next.size() - 1] && f.mergeable[f.next.size() - 2]) {
+            FrontEntry p;
+            if (!BvttFront::parent_of(bvh_, f.next[f.next.size() - 2], f.next.back(), p)) return;
+            ++stats_.bv_tests;
+            const bool overlap = bvh_[p.a].box.overlaps(bvh_[p.b].box);
+            if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(p.a, p.b, overlap);
+            if (overlap) return;
+            f.next.resize(f.next.size() - 2);
+            f.mergeable.resize(f.mergeable.size() - 2);
+            push_front(p, true);
         }
     }
 
@@ -125,6 +228,7 @@ class SelfCollideTraversal {
     Tracer& tracer_;
     DcdStats& stats_;
     std::vector<TrianglePair>& out_;
+    BvttFront* front_;  // kTrackFront only
 };
 
 }  // namespace conecull

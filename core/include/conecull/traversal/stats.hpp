@@ -17,6 +17,11 @@ struct DcdStats {
     int64_t contour_failed = 0;
     std::array<int64_t, 6> contour_reasons{};  // by ContourReason
     int64_t contour_edges = 0;       // contour edges visited by Alg. 1
+    // BVTT front (methods "aabb+front", "nc+front"; 0 for the others), after the query:
+    int64_t front_entries = 0;       // entries kept for the next query (over all sub-segments)
+    int64_t front_bytes = 0;         // their size: front_entries * sizeof(FrontEntry)
+    int64_t front_added = 0;         // entries made this query (descents, merges, rebuilt sub-segments)
+    int64_t front_removed = 0;       // entries of the previous front not kept (descended, merged, culled)
     int64_t elementary_tests = 0;
     int64_t colliding_pairs = 0;
     double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;

@@ -1,0 +1,68 @@
+// The BVTT front of Sec. 4 (Fig. 5), kept by the collider between queries: one sub-segment
+// Front_X per internal BVH node X, a cut of the BVTT of Collide(X->left, X->right).
+//
+// What makes any cut exact: every pair of leaves (one under X->left, one under X->right) lies
+// below exactly one entry, and a parent's box is the union of its children's boxes, so an entry
+// whose boxes are apart has no overlapping pair of leaves below it. Resuming Collide from the
+// entries (descending the overlapping ones) therefore finds exactly the candidates of
+// Collide(X->left, X->right) from the top, however stale the cut is; the cut only decides how
+// much work that takes. This is why fronts need no invalidation for correctness, not even when
+// the motion between queries is large.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "conecull/bvh/bvh.hpp"
+
+namespace conecull {
+
+// A BVTT node A * B: BVH nodes with disjoint triangle sets (A under X->left, B under X->right).
+struct FrontEntry {
+    int32_t a, b;
+};
+
+struct BvttFront {
+    // The sub-segments tracked by the last query, one after another in traversal order; Front_X
+    // is entries[begin[X], begin[X] + count[X]) if tracked[X] == query, i.e. X was visited and
+    // not culled by the last query. Nothing else is kept: a culled region keeps no front (the
+    // memory Alg. 4 saves) and is rebuilt from the top when it is not culled again.
+    std::vector<FrontEntry> entries;
+    std::vector<int64_t> begin;
+    std::vector<int32_t> count;
+    std::vector<uint64_t> tracked;
+    uint64_t query = 0;  // queries answered with this front (so 0: never tracked)
+
+    // Being built by the current query: the new sub-segments, and per entry whether it may
+    // merge with a sibling (its boxes are apart and it was not just made by descending a
+    // parent whose boxes overlap).
+    std::vector<FrontEntry> next;
+    std::vector<uint8_t> mergeable;
+
+    void reset(const Bvh& bvh) {
+        entries.clear();
+        begin.assign(bvh.nodes.size(), 0);
+        count.assign(bvh.nodes.size(), 0);
+        tracked.assign(bvh.nodes.size(), 0);
+        query = 0;
+    }
+
+    bool is_tracked(int32_t x) const { return query > 0 && tracked[x] == query; }
+
+    // The BVTT node whose children are the sibling entries e1, e2 (e1 the left one), if they are
+    // siblings: (p, b) for the parent p of e1.a, e2.a, or (a, q) for the parent q of e1.b, e2.b.
+    // Left children are parent + 1 in the pre-order BVH. Merging them keeps the cut a cut.
+    static bool parent_of(const Bvh& bvh, FrontEntry e1, FrontEntry e2, FrontEntry& parent) {
+        if (e1.b == e2.b && bvh.nodes[e1.a - 1].right == e2.a) {
+            parent = {e1.a - 1, e1.b};
+            return true;
+        }
+        if (e1.a == e2.a && bvh.nodes[e1.b - 1].right == e2.b) {
+            parent = {e1.a, e1.b - 1};
+            return true;
+        }
+        return false;
+    }
+};
+
+}  // namespace conecull

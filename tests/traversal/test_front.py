@@ -1,0 +1,179 @@
+"""The BVTT front methods ("aabb+front", "nc+front", Alg. 4) keep their front between queries and
+must still return exactly the oracle's pairs on every frame: over deforming sequences (fronts
+reused, grown and shrunk), after large jumps between unrelated poses, when motion stops, and
+when DCD and CCD queries alternate on one collider. Their candidate pairs are exactly those of
+the method without a front."""
+
+import functools
+
+import numpy as np
+import pytest
+
+import conecull
+from conecull.datasets.generated import bending_sheet, crumpling_sphere, fold, sheet_for_triangles
+from oracle import brute_force_pairs
+
+FRONT = {"aabb+front": "aabb", "nc+front": "nc"}
+
+
+def folding(n_triangles=400, n_frames=24):
+    """A rippled sheet folding from 0.85 pi to 1.3 pi: culled flat parts, a moving fold and
+    self-intersections on most frames."""
+    F, V = sheet_for_triangles(n_triangles)
+    V = V.copy()
+    V[:, 2] = 0.01 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
+    return F, np.stack([fold(V, a, radius=0.05) for a in np.linspace(0.85 * np.pi, 1.3 * np.pi, n_frames)])
+
+
+SEQUENCES = {
+    "folding": folding,
+    "crumpling": lambda: crumpling_sphere(10, 20, n_frames=24, strength=1.0),
+    "bending": lambda: bending_sheet(400, n_frames=24, amplitude=0.3),
+}
+
+
+@functools.lru_cache(maxsize=None)
+def sequence(name):
+    return SEQUENCES[name]()
+
+
+@functools.lru_cache(maxsize=None)
+def oracle(name, k):
+    F, frames = sequence(name)
+    return frozenset(brute_force_pairs(F, frames[k]))
+
+
+def as_set(pairs):
+    return {tuple(p) for p in pairs.tolist()}
+
+
+def candidates(res):
+    return as_set(res.trace.elementary["pair"])
+
+
+def check_frame(cols, V, expect, where):
+    """Every collider's pairs equal the oracle's; each front method's candidates (traced) equal
+    those of its method without a front."""
+    res = {m: c.dcd(V, trace=True) for m, c in cols.items()}
+    for m, r in res.items():
+        got = as_set(r.pairs)
+        assert got == expect, f"{where} {m}: missing {sorted(expect - got)[:5]} extra {sorted(got - expect)[:5]}"
+    for m, base in FRONT.items():
+        if m in res and base in res:
+            assert candidates(res[m]) == candidates(res[base]), f"{where}: {m} and {base} test different candidates"
+            assert res[m].stats["elementary_tests"] == res[base].stats["elementary_tests"]
+    return res
+
+
+def test_sequences_collide():
+    """The sequences really have collisions on many frames (else the test below proves little)."""
+    for name in ("folding", "crumpling"):
+        n = len(sequence(name)[1])
+        assert sum(1 for k in range(n) if oracle(name, k)) >= n // 3, name
+
+
+@pytest.mark.parametrize("leaf_size", [1, 2])
+@pytest.mark.parametrize("name", list(SEQUENCES))
+def test_all_methods_equal_oracle_over_sequences(name, leaf_size):
+    F, frames = sequence(name)
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m, leaf_size=leaf_size) for m in conecull.METHODS}
+    grew = shrank = 0
+    for k, V in enumerate(frames):
+        res = check_frame(cols, V, oracle(name, k), f"{name} frame {k}")
+        if k:
+            grew += sum(res[m].stats["front_added"] > 0 for m in FRONT)
+            shrank += sum(res[m].stats["front_removed"] > 0 for m in FRONT)
+    assert grew and shrank, "the fronts never changed: the sequence does not exercise front tracking"
+
+
+def test_large_motion_permuted_frames_and_unrelated_poses():
+    """Frames in random order, jumps between two unrelated sequences of the same mesh and to a
+    random pose where almost every box overlaps: the fronts are far from the new pose and must
+    grow (and shrink back) a lot, results stay exact."""
+    F, fold_frames = sequence("folding")
+    F2, bend_frames = sequence("bending")
+    assert np.array_equal(F, F2)
+    rng = np.random.default_rng(3)
+    noisy = fold_frames[0] + 0.08 * rng.standard_normal(fold_frames[0].shape)
+    expect_noisy = frozenset(brute_force_pairs(F, noisy))
+    assert len(expect_noisy) > 100
+    poses = [("folding", k) for k in rng.permutation(len(fold_frames))]
+    poses[5:5] = [("bending", 3), ("noisy", 0), ("folding", 0), ("noisy", 0), ("bending", 17)]
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
+    for i, (name, k) in enumerate(poses):
+        V = noisy if name == "noisy" else sequence(name)[1][k]
+        expect = expect_noisy if name == "noisy" else oracle(name, k)
+        res = check_frame(cols, V, expect, f"pose {i} ({name} {k})")
+        if name == "noisy":
+            assert all(res[m].stats["front_added"] > 1000 for m in FRONT)
+
+
+@pytest.mark.parametrize("name", ["folding", "crumpling"])
+def test_motion_stops(name):
+    """An identical consecutive frame leaves every front unchanged (nothing added or removed),
+    and the results identical."""
+    F, frames = sequence(name)
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
+    for k in (0, 11, 11, 11, 12, 23, 23):
+        res = check_frame(cols, frames[k], oracle(name, k), f"{name} frame {k}")
+    for m in FRONT:
+        s = res[m].stats
+        assert s["front_added"] == 0 and s["front_removed"] == 0 and s["front_entries"] > 0, (m, s)
+
+
+def test_front_stats_consistent_and_front_reused():
+    """The first query builds the whole front (every entry added, none removed), later ones
+    add and remove some (never a negative count); front_bytes counts its entries (8 bytes
+    each); after the first frame of a smooth sequence the front saves box tests (resumed where
+    the last query stopped instead of from the top)."""
+    F, frames = bending_sheet(2000, n_frames=8)
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
+    for k, V in enumerate(frames):
+        res = {m: c.dcd(V) for m, c in cols.items()}
+        for m, base in FRONT.items():
+            s = res[m].stats
+            assert s["front_entries"] > 0 and s["front_bytes"] == 8 * s["front_entries"]
+            assert s["front_added"] >= 0 and s["front_removed"] >= 0
+            if k == 0:
+                assert s["front_added"] == s["front_entries"] and s["front_removed"] == 0
+            else:
+                assert s["bv_tests"] < 0.75 * res[base].stats["bv_tests"], (k, m)
+        for m in ("aabb", "nc"):
+            assert res[m].stats["front_entries"] == 0
+
+
+@pytest.mark.parametrize("scene,ratio", [("bending", 0.5), ("folding", 0.4)])
+def test_nc_front_smaller_than_aabb_front_on_a_smooth_sheet(scene, ratio):
+    """Normal cone culling drops the front of every culled node (Sec. 4): on a smoothly bending
+    sheet (no self-intersection) and on a sheet folding onto itself, the guided front is a
+    fraction of the conventional one."""
+    if scene == "bending":
+        F, frames = bending_sheet(2000, n_frames=6, amplitude=0.15)
+    else:
+        F, V = sheet_for_triangles(2000)
+        frames = [fold(V, a, radius=0.03) for a in np.linspace(0.95 * np.pi, 1.2 * np.pi, 6)]
+    mesh = conecull.Mesh(F)
+    nc = conecull.SelfCollider(mesh, method="nc+front")
+    aabb = conecull.SelfCollider(mesh, method="aabb+front")
+    for V in frames:
+        a, b = nc.dcd(V).stats, aabb.dcd(V).stats
+        assert 0 < a["front_entries"] <= ratio * b["front_entries"], (a["front_entries"], b["front_entries"])
+        assert a["front_bytes"] < b["front_bytes"]
+
+
+def test_culled_region_keeps_no_front():
+    """When a folded sheet is laid flat, everything is culled: nc+front frees its whole front
+    (and rebuilds it, exactly, when the fold comes back)."""
+    F, frames = sequence("folding")
+    flat = sheet_for_triangles(400)[1]
+    mesh = conecull.Mesh(F)
+    col = conecull.SelfCollider(mesh, method="nc+front")
+    before = col.dcd(frames[20]).stats["front_entries"]
+    assert before > 0
+    s = col.dcd(flat).stats
+    assert s["front_entries"] == 0 and s["front_removed"] == before and len(col.dcd(flat).pairs) == 0
+    assert as_set(col.dcd(frames[20]).pairs) == oracle("folding", 20)
