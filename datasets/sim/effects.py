@@ -230,7 +230,7 @@ class SelfContact(Effect):
     name = "self-contact"
     stages = ("collide", "contact")
 
-    def __init__(self, thickness=0.8, max_rounds=50, dilate=1):
+    def __init__(self, thickness=0.8, max_rounds=50, dilate=2):
         self.thickness, self.max_rounds, self.dilate = thickness, max_rounds, dilate
 
     def setup(self, sim):
