@@ -1,21 +1,37 @@
-// A certified "no contact" filter on the time axis, for pairs the box subdivision cannot
-// exclude (near misses). A contact at time t needs the coplanarity polynomial f(t) = 0 and, at
-// that t, necessary sign conditions on a few polynomials (below). With interval arithmetic
-// (every rounding widens the result outward), [0, 1] is covered by t-intervals on each of
-// which f provably has no root or a necessary condition provably fails. Then there is no
-// contact. Anything not proven stays for the exact decision.
+// A certified time-axis test for the pairs the shallow box subdivision cannot exclude (near
+// misses and contacts). A contact at time t needs the coplanarity polynomial f(t) = 0 and, at
+// that t, necessary sign conditions h >= 0 on a few polynomials (below). With interval
+// arithmetic (every rounding widens the result outward), [0, 1] is covered by t-intervals on
+// each of which f provably has no root or a necessary condition provably fails: then there is
+// no contact. Conversely, a piece on which f provably changes sign and the conditions are
+// provably > 0 in the pattern below holds a contact (intermediate value theorem). Anything
+// not proven stays for Miranda's test and the exact decision.
 //
-// Necessary conditions (derived in the comments of each test; checked by the exact tests):
-//   VF, p in the closed triangle abc: for every axis k, o_k n_k >= 0 with n = (b-a) x (c-a) and
-//     o one of (b-a) x (p-a), (c-b) x (p-b), (a-c) x (p-c): each o equals a barycentric
-//     coordinate times n.
-//   EE, [a,b] meets [c,d] at a + u(b-a) = c + v(d-c): ((b-a) x (c-a))_k ((b-a) x (d-a))_k =
-//     -v (1-v) ((b-a) x (d-c))_k^2 <= 0, and likewise with the segments swapped.
+// Conditions (checked by the exact tests):
+//   VF: n = (b-a) x (c-a) and o one of (b-a) x (p-a), (c-b) x (p-b), (a-c) x (p-c). When p is
+//     in the plane of abc, o = lambda n with lambda p's barycentric coordinate opposite that
+//     edge, so o_k n_k = lambda n_k^2. p in the closed triangle: o_k n_k >= 0 for every o and
+//     axis k (necessary). Some axis k with o_k n_k > 0 for all three o: every lambda > 0, p
+//     strictly inside (sufficient, with coplanarity).
+//   EE: with all four points coplanar, T1 = (b-a) x (c-a) and T2 = (b-a) x (d-a) are normal
+//     to the common plane. If [a,b] meets [c,d] at a + u(b-a) = c + v(d-c), then
+//     T1_k T2_k = -v (1-v) ((b-a) x (d-c))_k^2 <= 0 (necessary), likewise T3 = (d-c) x (a-c),
+//     T4 = (d-c) x (b-c). Some axis with T1_k T2_k < 0: T1, T2 are antiparallel, c and d lie
+//     strictly on opposite sides of the line ab in the plane; with some axis where
+//     T3_k T4_k < 0 too, each segment crosses the other's line at an interior point, and the
+//     two lines meet in one point: a contact (sufficient, with coplanarity).
+//
+// Every polynomial is kept in Bernstein form on the current piece [t0, t1] (its value is a
+// convex combination of the coefficients, so their hull bounds its range: far tighter than
+// interval Horner, hence fewer pieces; the first and last coefficients are its values at t0
+// and t1), built straight from the positions at t = 0 and t = 1 (a moving difference has the
+// Bernstein coefficients q0 - r0, q1 - r1: no velocity is rounded) and split at the midpoint
+// by de Casteljau's algorithm. Fixed degrees (f cubic, the conditions quartic): everything
+// lives on the stack.
 #include <algorithm>
 #include <cmath>
-#include <vector>
 
-#include "conecull/vec3.hpp"
+#include "conecull/ccd/interval_filter.hpp"
 
 namespace conecull {
 
@@ -25,122 +41,220 @@ namespace {
 // points of the operands lies inside. A computed double is within 2^-53 |x| (+ a subnormal
 // ulp) of the exact value, so widening by 2^-52 |x| + 2^-1000 is safe.
 struct Interval {
-    double lo = 0.0, hi = 0.0;
+    double lo, hi;  // no initializers: the piece stack below stays uninitialised until written
     static Interval widen(double a, double b) {
         const double l = std::min(a, b), h = std::max(a, b);
         return {l - (std::fabs(l) * 0x1p-52 + 0x1p-1000), h + (std::fabs(h) * 0x1p-52 + 0x1p-1000)};
     }
 };
-Interval exact(double x) { return {x, x}; }
 Interval operator+(const Interval& a, const Interval& b) { return Interval::widen(a.lo + b.lo, a.hi + b.hi); }
 Interval operator-(const Interval& a, const Interval& b) { return Interval::widen(a.lo - b.hi, a.hi - b.lo); }
 Interval operator*(const Interval& a, const Interval& b) {
     const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
-    return Interval::widen(*std::min_element(p, p + 4), *std::max_element(p, p + 4));
+    return Interval::widen(std::min({p[0], p[1], p[2], p[3]}), std::max({p[0], p[1], p[2], p[3]}));
 }
+// a / k for an integer k > 0: one correctly rounded division per end, widened like the rest.
+Interval divided(const Interval& a, double k) { return Interval::widen(a.lo / k, a.hi / k); }
+// (a + b) / 2: the sum is rounded once (covered by the widening); halving is exact except in
+// the subnormal range, where the 2^-1000 term covers it.
+Interval midpoint(const Interval& a, const Interval& b) { return Interval::widen(0.5 * (a.lo + b.lo), 0.5 * (a.hi + b.hi)); }
 
-using IPoly = std::vector<Interval>;  // power basis, low to high
-
-IPoly add(const IPoly& a, const IPoly& b) {
-    IPoly r(std::max(a.size(), b.size()), exact(0.0));
-    for (size_t i = 0; i < r.size(); ++i) {
-        if (i < a.size() && i < b.size()) r[i] = a[i] + b[i];
-        else r[i] = i < a.size() ? a[i] : b[i];
+// Bernstein coefficients b_0..b_D of a polynomial of degree <= D on the current piece.
+template <int D>
+struct Bern {
+    Interval b[D + 1];
+    // Hull of the coefficients: contains the polynomial's range on the piece.
+    double lo() const {
+        double m = b[0].lo;
+        for (int i = 1; i <= D; ++i) m = std::min(m, b[i].lo);
+        return m;
     }
+    double hi() const {
+        double m = b[0].hi;
+        for (int i = 1; i <= D; ++i) m = std::max(m, b[i].hi);
+        return m;
+    }
+    // de Casteljau at s = 1/2: the coefficients on the left and right halves of the piece.
+    void split(Bern& left, Bern& right) const {
+        Interval w[D + 1];
+        std::copy(b, b + D + 1, w);
+        left.b[0] = w[0];
+        right.b[D] = w[D];
+        for (int r = 1; r <= D; ++r) {
+            for (int i = 0; i + r <= D; ++i) w[i] = midpoint(w[i], w[i + 1]);
+            left.b[r] = w[0];
+            right.b[D - r] = w[D - r];
+        }
+    }
+};
+
+// Products in Bernstein form on [0, 1]: for p = sum a_i B_i^m and q = sum b_j B_j^n,
+// pq = sum_k c_k B_k^(m+n) with c_k = sum_{i+j=k} C(m,i) C(n,j) a_i b_j / C(m+n,k).
+Bern<2> mul(const Bern<1>& a, const Bern<1>& b) {
+    return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), a.b[1] * b.b[1]}};
+}
+Bern<3> mul(const Bern<2>& a, const Bern<1>& b) {
+    const Interval c1 = (a.b[1] * b.b[0] + a.b[1] * b.b[0]) + a.b[0] * b.b[1];  // 2 a1 b0 + a0 b1
+    const Interval c2 = a.b[2] * b.b[0] + (a.b[1] * b.b[1] + a.b[1] * b.b[1]);  // a2 b0 + 2 a1 b1
+    return {{a.b[0] * b.b[0], divided(c1, 3.0), divided(c2, 3.0), a.b[2] * b.b[1]}};
+}
+Bern<4> mul(const Bern<2>& a, const Bern<2>& b) {
+    const Interval m11 = a.b[1] * b.b[1];
+    const Interval c2 = (a.b[0] * b.b[2] + a.b[2] * b.b[0]) + ((m11 + m11) + (m11 + m11));  // a0 b2 + 4 a1 b1 + a2 b0
+    return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), divided(c2, 6.0),
+             midpoint(a.b[1] * b.b[2], a.b[2] * b.b[1]), a.b[2] * b.b[2]}};
+}
+template <int D>
+Bern<D> operator+(const Bern<D>& a, const Bern<D>& b) {
+    Bern<D> r;
+    for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] + b.b[i];
     return r;
 }
-IPoly sub(const IPoly& a, const IPoly& b) {
-    IPoly nb = b;
-    for (auto& x : nb) x = {-x.hi, -x.lo};
-    return add(a, nb);
-}
-IPoly mul(const IPoly& a, const IPoly& b) {
-    IPoly r(a.size() + b.size() - 1, exact(0.0));
-    for (size_t i = 0; i < a.size(); ++i)
-        for (size_t j = 0; j < b.size(); ++j) r[i + j] = r[i + j] + a[i] * b[j];
+template <int D>
+Bern<D> operator-(const Bern<D>& a, const Bern<D>& b) {
+    Bern<D> r;
+    for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] - b.b[i];
     return r;
 }
-// Range of p over t in [t0, t1] (Horner in interval arithmetic).
-Interval range(const IPoly& p, double t0, double t1) {
-    const Interval t{t0, t1};
-    Interval r = exact(0.0);
-    for (size_t i = p.size(); i-- > 0;) r = r * t + p[i];
+template <int D>
+Bern<D> negated(const Bern<D>& a) {
+    Bern<D> r;
+    for (int i = 0; i <= D; ++i) r.b[i] = {-a.b[i].hi, -a.b[i].lo};
     return r;
 }
 
-struct IVec {
-    IPoly c[3];
+// A moving difference q(t) - r(t), per axis linear: Bernstein coefficients q0 - r0, q1 - r1.
+struct LinVec {
+    Bern<1> c[3];
 };
-IVec moving(const Vec3& x0, const Vec3& x1) {
-    IVec v;
-    for (int k = 0; k < 3; ++k) v.c[k] = {exact(x0[k]), exact(x1[k]) - exact(x0[k])};
+struct QuadVec {
+    Bern<2> c[3];
+};
+LinVec difference(const Vec3& q0, const Vec3& q1, const Vec3& r0, const Vec3& r1) {
+    LinVec v;
+    for (int k = 0; k < 3; ++k)
+        v.c[k] = {{Interval::widen(q0[k] - r0[k], q0[k] - r0[k]), Interval::widen(q1[k] - r1[k], q1[k] - r1[k])}};
     return v;
 }
-IVec operator-(const IVec& a, const IVec& b) {
-    IVec r;
-    for (int k = 0; k < 3; ++k) r.c[k] = sub(a.c[k], b.c[k]);
-    return r;
-}
-IVec cross(const IVec& a, const IVec& b) {
-    IVec r;
+Bern<2> dot2(const LinVec& a, const LinVec& b, int i, int j) { return mul(a.c[i], b.c[i]) + mul(a.c[j], b.c[j]); }
+QuadVec cross(const LinVec& a, const LinVec& b) {
+    QuadVec r;
     for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
-        r.c[k] = sub(mul(a.c[i], b.c[j]), mul(a.c[j], b.c[i]));
+        r.c[k] = mul(a.c[i], b.c[j]) - mul(a.c[j], b.c[i]);
     }
     return r;
 }
-IPoly dot(const IVec& a, const IVec& b) { return add(add(mul(a.c[0], b.c[0]), mul(a.c[1], b.c[1])), mul(a.c[2], b.c[2])); }
+Bern<3> dot(const QuadVec& a, const LinVec& b) { return mul(a.c[0], b.c[0]) + mul(a.c[1], b.c[1]) + mul(a.c[2], b.c[2]); }
 
-// Covers [0, 1]: each piece must show f != 0 or one of `must_be_nonneg` < 0 (as given).
-bool excluded_on_unit(const IPoly& f, const std::vector<IPoly>& must_be_nonneg, int budget) {
-    std::vector<std::pair<double, double>> stack = {{0.0, 1.0}};
+// Depth-first over pieces of [0, 1], left to right. A piece is done when f != 0 on it or a
+// condition h < 0 on it (no contact there); a contact is proven on a piece where f takes
+// opposite strict signs at its ends and `sufficient` holds for its conditions. A piece at the
+// depth limit still undecided, or the budget running out: not proven.
+template <int DF, int DH, int N, class Sufficient>
+TimeAxisVerdict search_unit(const Bern<DF>& f0, const Bern<DH> (&h0)[N], int budget, Sufficient sufficient) {
+    struct Piece {
+        Bern<DF> f;
+        Bern<DH> h[N];
+        int depth;
+    };
+    // Pieces of 2^-30: a contact on the boundary of the domain (a condition exactly 0 at the
+    // root) is never decided, and the descent to this depth is its cost.
+    constexpr int kMaxDepth = 30;
+    Piece stack[kMaxDepth + 2];  // depth-first: at most one pending sibling per level
+    int top = 0;
+    stack[top].f = f0;
+    std::copy(h0, h0 + N, stack[top].h);
+    stack[top++].depth = 0;
     int pieces = 0;
-    while (!stack.empty()) {
-        const auto [t0, t1] = stack.back();
-        stack.pop_back();
-        if (++pieces > budget) return false;
-        const Interval F = range(f, t0, t1);
-        if (F.lo > 0.0 || F.hi < 0.0) continue;
+    while (top > 0) {
+        const Piece& p = stack[--top];
+        if (++pieces > budget) return TimeAxisVerdict::kUnknown;
+        if (p.f.lo() > 0.0 || p.f.hi() < 0.0) continue;
+        double hlo[N];
         bool fails = false;
-        for (const IPoly& h : must_be_nonneg)
-            if (range(h, t0, t1).hi < 0.0) {
-                fails = true;
-                break;
-            }
+        for (int i = 0; i < N && !fails; ++i) {
+            fails = p.h[i].hi() < 0.0;
+            hlo[i] = p.h[i].lo();
+        }
         if (fails) continue;
-        if (t1 - t0 < 0x1p-40) return false;
-        const double m = 0.5 * (t0 + t1);
-        stack.push_back({m, t1});
-        stack.push_back({t0, m});
+        const Interval& fa = p.f.b[0];
+        const Interval& fb = p.f.b[DF];  // f(t0), f(t1)
+        if (((fa.hi < 0.0 && fb.lo > 0.0) || (fa.lo > 0.0 && fb.hi < 0.0)) && sufficient(hlo))
+            return TimeAxisVerdict::kContact;
+        if (p.depth >= kMaxDepth) return TimeAxisVerdict::kUnknown;
+        // Split into the slots top (right half, pending) and top + 1 (left half, next);
+        // p lives in slot top, so split through a copy.
+        const Piece whole = p;
+        Piece& right = stack[top];
+        Piece& left = stack[top + 1];
+        whole.f.split(left.f, right.f);
+        for (int i = 0; i < N; ++i) whole.h[i].split(left.h[i], right.h[i]);
+        left.depth = right.depth = whole.depth + 1;
+        top += 2;
     }
-    return true;
+    return TimeAxisVerdict::kApart;
 }
 
 }  // namespace
 
-bool vertex_face_certainly_apart(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
-                                 const Vec3& a1, const Vec3& b1, const Vec3& c1) {
-    const IVec p = moving(p0, p1), a = moving(a0, a1), b = moving(b0, b1), c = moving(c0, c1);
-    const IVec n = cross(b - a, c - a);
-    const IPoly f = dot(n, p - a);
-    const IVec o[3] = {cross(b - a, p - a), cross(c - b, p - b), cross(a - c, p - c)};
-    std::vector<IPoly> conditions;
-    for (const IVec& oi : o)
-        for (int k = 0; k < 3; ++k) conditions.push_back(mul(oi.c[k], n.c[k]));
-    return excluded_on_unit(f, conditions, 120);
+TimeAxisVerdict vertex_face_time_axis(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
+                                      const Vec3& a1, const Vec3& b1, const Vec3& c1, int budget) {
+    const LinVec ba = difference(b0, b1, a0, a1), ca = difference(c0, c1, a0, a1), pa = difference(p0, p1, a0, a1);
+    const LinVec cb = difference(c0, c1, b0, b1), pb = difference(p0, p1, b0, b1);
+    const LinVec ac = difference(a0, a1, c0, c1), pc = difference(p0, p1, c0, c1);
+    const QuadVec n = cross(ba, ca);
+    const Bern<3> f = dot(n, pa);
+    const QuadVec o[3] = {cross(ba, pa), cross(cb, pb), cross(ac, pc)};
+    Bern<4> h[9];  // h[3 i + k] = o_i,k n_k
+    for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) h[3 * i + k] = mul(o[i].c[k], n.c[k]);
+    // p strictly inside: one axis k on which all three o_i,k n_k > 0.
+    const auto inside = [](const double* lo) {
+        for (int k = 0; k < 3; ++k)
+            if (lo[k] > 0.0 && lo[3 + k] > 0.0 && lo[6 + k] > 0.0) return true;
+        return false;
+    };
+    return search_unit(f, h, budget, inside);
 }
 
-bool edge_edge_certainly_apart(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
-                               const Vec3& b1, const Vec3& c1, const Vec3& d1) {
-    const IVec a = moving(a0, a1), b = moving(b0, b1), c = moving(c0, c1), d = moving(d0, d1);
-    const IPoly f = dot(cross(b - a, d - c), c - a);
-    const IVec T1 = cross(b - a, c - a), T2 = cross(b - a, d - a), T3 = cross(d - c, a - c), T4 = cross(d - c, b - c);
-    std::vector<IPoly> conditions;  // -(T1 T2) >= 0 and -(T3 T4) >= 0 on every axis
+TimeAxisVerdict edge_edge_time_axis(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                                    const Vec3& b1, const Vec3& c1, const Vec3& d1, int budget) {
+    const LinVec ba = difference(b0, b1, a0, a1), dc = difference(d0, d1, c0, c1), ca = difference(c0, c1, a0, a1);
+    const LinVec da = difference(d0, d1, a0, a1), ac = difference(a0, a1, c0, c1), bc = difference(b0, b1, c0, c1);
+    const Bern<3> f = dot(cross(ba, dc), ca);
+    const QuadVec T1 = cross(ba, ca), T2 = cross(ba, da), T3 = cross(dc, ac), T4 = cross(dc, bc);
+    Bern<4> h[6];  // h[2 k] = -(T1 T2)_k, h[2 k + 1] = -(T3 T4)_k
     for (int k = 0; k < 3; ++k) {
-        conditions.push_back(sub(IPoly{exact(0.0)}, mul(T1.c[k], T2.c[k])));
-        conditions.push_back(sub(IPoly{exact(0.0)}, mul(T3.c[k], T4.c[k])));
+        h[2 * k] = negated(mul(T1.c[k], T2.c[k]));
+        h[2 * k + 1] = negated(mul(T3.c[k], T4.c[k]));
     }
-    return excluded_on_unit(f, conditions, 120);
+    // c, d strictly on opposite sides of line ab (some axis), and a, b of line cd (some axis).
+    const auto crossing = [](const double* lo) {
+        return (lo[0] > 0.0 || lo[2] > 0.0 || lo[4] > 0.0) && (lo[1] > 0.0 || lo[3] > 0.0 || lo[5] > 0.0);
+    };
+    return search_unit(f, h, budget, crossing);
+}
+
+TimeAxisVerdict vertex_segment_planar_contact(const Vec3& q0, const Vec3& x0, const Vec3& y0, const Vec3& q1,
+                                              const Vec3& x1, const Vec3& y1, int budget) {
+    // An axis k on which q, x, y agree exactly at t = 0 and at t = 1: then they agree at every
+    // t (linear motion), and the problem lives in the plane of the other two axes i, j.
+    int k = 0;
+    while (k < 3 && !(q0[k] == x0[k] && q0[k] == y0[k] && q1[k] == x1[k] && q1[k] == y1[k])) ++k;
+    if (k == 3) return TimeAxisVerdict::kUnknown;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const LinVec yx = difference(y0, y1, x0, x1), qx = difference(q0, q1, x0, x1);
+    const LinVec xy = difference(x0, x1, y0, y1), qy = difference(q0, q1, y0, y1);
+    // g = (y - x) x (q - x) in the plane: q on the line xy iff g = 0 (given x != y). On that
+    // line q = x + s (y - x), and (q - x).(y - x) = s |y - x|^2 > 0 with
+    // (q - y).(x - y) = (1 - s) |y - x|^2 > 0 give s in (0, 1): q inside the segment.
+    const Bern<2> g = mul(yx.c[i], qx.c[j]) - mul(yx.c[j], qx.c[i]);
+    const Bern<2> h[2] = {dot2(qx, yx, i, j), dot2(qy, xy, i, j)};
+    const auto between = [](const double* lo) { return lo[0] > 0.0 && lo[1] > 0.0; };
+    // Only a proven contact counts: "apart" here says nothing about the rest of the pair.
+    return search_unit(g, h, budget, between) == TimeAxisVerdict::kContact ? TimeAxisVerdict::kContact
+                                                                            : TimeAxisVerdict::kUnknown;
 }
 
 }  // namespace conecull

@@ -12,9 +12,10 @@
 //                  keeps one sign on it, so no contact is ever missed; boxes that stay
 //                  undecided down to the tolerance (or past the box budget) report contact.
 //   kExact         a shallow conservative test (its "no" is final), exact static contact at
-//                  t = 0 or 1, contacts proven by Miranda's theorem, a certified interval
-//                  filter on the time axis for near misses (its "no" is final), then an exact
-//                  decision: exact root isolation of the polynomials in t with dyadic
+//                  t = 0 or 1, a certified time-axis test (Bernstein enclosures in interval
+//                  arithmetic: proves near misses apart and contacts, incl. a vertex crossing
+//                  an edge in an axis-aligned plane), contacts proven by Miranda's theorem,
+//                  then an exact decision: exact root isolation of the polynomials in t with dyadic
 //                  arithmetic and their signs at those roots (exact_ccd.cpp) - exactly the
 //                  answer for the given doubles.
 #pragma once
@@ -36,8 +37,8 @@ struct CcdOptions {
 struct ExactPathCounts {
     int64_t filtered = 0;        // excluded by the shallow conservative filter
     int64_t static_contact = 0;  // contact at t = 0 or t = 1 (exact static predicates)
-    int64_t proven_contact = 0;  // contact proven by Miranda's theorem
-    int64_t interval_filtered = 0;   // excluded by the certified time-axis (interval) filter
+    int64_t proven_contact = 0;  // contact proven by the time-axis test or Miranda's theorem
+    int64_t interval_filtered = 0;   // excluded by the certified time-axis (interval) test
     int64_t exact_engine = 0;    // decided by exact root isolation
 };
 ExactPathCounts& exact_path_counts();
