@@ -10,7 +10,7 @@
 //      intervals"). The middle of the overlap is the candidate kernel point o.
 //   3. Star test on the projected polygon: o on the inner side of every edge (kernel test) and
 //      a ray from o crossing the contour once (Sec. 3.3's intersection test), the same loop as
-//      Alg. 1 but on 2D coordinates.
+//      Alg. 1 but on 2D coordinates; the ray has a generic slope in the frame.
 //
 // Certified, unlike [SPO10] (Sec. 3.2: the projections "are prone to floating-point errors"):
 // the projected coordinates carry a rigorous absolute error bound `delta`, every 2D sign is
@@ -35,7 +35,7 @@ namespace conecull {
 
 // The frame of the projection plane: u = l x e_k with e_k the axis of l's smallest component,
 // so u is exact (its components are +-l's or 0) and exactly perpendicular to l; w = l x u,
-// rounded (w_exact is only used in the error analysis). k also gives the second ray direction.
+// rounded (w_exact is only used in the error analysis). The rays are u + phi e_k.
 struct ProjectionFrame {
     Vec3 u, w;
     int k = 0;
@@ -73,15 +73,21 @@ inline double project(const Vec3& p, const Vec3& c, const ProjectionFrame& f, do
     return std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
 }
 
+// Ray directions of the intersection test, in the plane frame: r = u + phi e_k (exact: u_k = 0),
+// whose projection is (|u|^2, phi |u|^2 ... ) up to the frame: SideSign(v, o, o + r, l) =
+// sign((v - o) . (l x r)) = sign((Y* - Yo*) + phi (X* - Xo*)), as l x u = w and l x e_k = u.
+// Generic slopes, as Alg. 1 here (contour_test.hpp): an axis-aligned ray on a grid-like contour
+// would run through vertices; a second slope if the first still does.
+inline constexpr double kSctRaySlopes[2] = {0.6180339887498949, -1.3247179572447460};
+
 struct ProjectedSigns {
     const double* X;
     const double* Y;
     double Xo, Yo, delta;
     const int32_t* loop;
     const double* V;
-    Vec3 o, l, u;
-    int k;          // e_k
-    bool along_w;   // ray attempt 2: the ray along e_k (2D: the line X = Xo) instead of along u
+    Vec3 o, l, r;
+    double phi;  // r = u + phi e_k
 
     // Kernel test: orient2d(o, v_i, v_j) on the projected coordinates. Bound on the error
     // against the exact projections (each coordinate within delta): rounding of the two
@@ -96,17 +102,15 @@ struct ProjectedSigns {
         if (-det > bound) return -1;
         return side_sign(o, load(V, loop[i]), load(V, loop[j]), l);  // = sign of the exact orient2d
     }
-    // Intersection test: SideSign(v_i, o, o + r, l) for r = u is sign(Y* - Yo*) (since
-    // (r x (v - o)) . l = (v - o) . (l x u) = (v - o) . w); for r = e_k it is sign(X* - Xo*)
-    // ((v - o) . (l x e_k) = (v - o) . u). Filter: the rounded difference is within
-    // eps |y| + 2 delta of the exact one.
+    // Intersection test: SideSign(v_i, o, o + r, l) = sign((Y* - Yo*) + phi (X* - Xo*)). Filter:
+    // each difference is within 2 delta (+ its rounding) of the exact one; the products and the
+    // sum add relative roundings, 4 eps with margin.
     int ray(int32_t i) const {
-        const double y = along_w ? X[i] - Xo : Y[i] - Yo;
-        const double bound = 2.2 * delta + 2.0 * kEps * std::fabs(y);
+        const double dy = Y[i] - Yo, pdx = phi * (X[i] - Xo), y = dy + pdx;
+        const double bound = 2.2 * delta * (1.0 + std::fabs(phi)) + 4.0 * kEps * (std::fabs(dy) + std::fabs(pdx));
         if (y > bound) return 1;
         if (-y > bound) return -1;
-        static constexpr Vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-        return ray_side_sign(load(V, loop[i]), o, along_w ? e[k] : u, l);
+        return ray_side_sign(load(V, loop[i]), o, r, l);
     }
 };
 
@@ -171,18 +175,19 @@ inline ContourVerdict projected_contour_test(const int32_t* loop, int32_t n, con
     double Xo, Yo;
     d1 = std::fmax(d1, project(out.kernel, c, f, Xo, Yo));
     const double delta = 16.0 * kEps * d1 * f.scale;
-    // Step 3: the star test on the projected polygon; a second ray (along e_k) if the first
-    // passes exactly through a vertex, as Alg. 1 here does.
-    ProjectedSigns signs{X, Y, Xo, Yo, delta, loop, V, out.kernel, l, f.u, f.k, false};
-    ContourVerdict v = star_contour_test(n, signs, out);
-    v.edges_visited += n;  // the line search's pass
-    if (v.reason == ContourReason::kRayThroughVertex) {
-        static constexpr Vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-        const int32_t before = v.edges_visited;
-        signs.along_w = true;
-        out.ray = e[f.k];
-        v = star_contour_test(n, signs, out);
+    // Step 3: the star test on the projected polygon (Sec. 3.3), with the ray of the second slope
+    // if the first passes exactly through a vertex.
+    ContourVerdict v;
+    int32_t before = n;  // the line search's pass
+    for (int attempt = 0; attempt < 2; ++attempt) {
+        const double phi = kSctRaySlopes[attempt];
+        Vec3 r = f.u;
+        (f.k == 0 ? r.x : (f.k == 1 ? r.y : r.z)) = phi;
+        out.ray = r;
+        v = star_contour_test(n, ProjectedSigns{X, Y, Xo, Yo, delta, loop, V, out.kernel, l, r, phi}, out);
         v.edges_visited += before;
+        before = v.edges_visited;
+        if (v.reason != ContourReason::kRayThroughVertex) break;
     }
     return v;
 }
