@@ -50,8 +50,9 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", choices=["dcd", "trace", "ccd"],
-                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time")
+    p.add_argument("suite", choices=["dcd", "trace", "ccd", "contour"],
+                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time; "
+                        "contour: contour test time, ours vs the sct and cbc baselines (Fig. 9)")
     p.add_argument("--triangles", type=int, default=64000)
     p.add_argument("--frames", type=int, default=8)
     p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
@@ -130,9 +131,9 @@ def _run(args) -> int:
         print(explain_node(col, res, args.node))
         return 0
     if args.command == "bench":
-        from conecull.app.bench import run_ccd_bench, run_dcd_bench, run_trace_bench
+        from conecull.app.bench import run_ccd_bench, run_contour_bench, run_dcd_bench, run_trace_bench
 
-        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench}[args.suite]
+        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench}[args.suite]
         return run(args.triangles, args.frames, args.repeats, args.out)
     return 2
 
