@@ -7,19 +7,21 @@ import sys
 
 
 def main(argv: list[str] | None = None) -> int:
+    from conecull._api import METHODS  # "sct" is DCD only: `record --ccd --method sct` is refused with a ValueError
+
     parser = argparse.ArgumentParser(prog="conecull", description="Reliable self-collision culling with unprojected normal cones")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("demo", help="record the demo scene (a sheet folding onto itself) to an .rrd and print per-frame stats")
     p.add_argument("--out", default="demo.rrd", help="recording to write (default demo.rrd)")
-    p.add_argument("--method", choices=["aabb", "nc", "aabb+front", "nc+front"], default="nc")
+    p.add_argument("--method", choices=list(METHODS), default="nc")
 
     p = sub.add_parser("record", help="trace a mesh sequence and write a rerun recording (.rrd)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--out", default="run.rrd", help="recording to write (default run.rrd)")
-    p.add_argument("--method", choices=["aabb", "nc", "aabb+front", "nc+front"], default="nc")
+    p.add_argument("--method", choices=list(METHODS), default="nc")
     p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
     p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
     p.add_argument("--ccd", action="store_true", help="continuous: frame k shows the step from frame k to k + 1")
@@ -32,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--port", type=int, default=8080, help="port (viser moves to the next free one; the real one is printed)")
     p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
-    p.add_argument("--method", choices=["aabb", "nc", "aabb+front", "nc+front"], default="nc")
+    p.add_argument("--method", choices=list(METHODS), default="nc")
 
     p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
     p.add_argument("input", help=INPUT_HELP)
@@ -40,7 +42,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--frame", type=int, required=True)
     p.add_argument("--node", type=int, required=True)
-    p.add_argument("--method", choices=["aabb", "nc", "aabb+front", "nc+front"], default="nc")
+    p.add_argument("--method", choices=list(METHODS), default="nc")
 
     p = sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
     p.add_argument("--generate", nargs="*", metavar="NAME",
@@ -48,8 +50,9 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", choices=["dcd", "trace", "ccd"],
-                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time")
+    p.add_argument("suite", choices=["dcd", "trace", "ccd", "contour"],
+                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time; "
+                        "contour: contour test time, ours vs the sct and cbc baselines (Fig. 9)")
     p.add_argument("--triangles", type=int, default=64000)
     p.add_argument("--frames", type=int, default=8)
     p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
@@ -128,9 +131,9 @@ def _run(args) -> int:
         print(explain_node(col, res, args.node))
         return 0
     if args.command == "bench":
-        from conecull.app.bench import run_ccd_bench, run_dcd_bench, run_trace_bench
+        from conecull.app.bench import run_ccd_bench, run_contour_bench, run_dcd_bench, run_trace_bench
 
-        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench}[args.suite]
+        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench}[args.suite]
         return run(args.triangles, args.frames, args.repeats, args.out)
     return 2
 

@@ -10,7 +10,8 @@ from fractions import Fraction as Fr
 
 
 def fr3(p):
-    return tuple(Fr(float(x)) for x in p)
+    """Exact coordinates: floats converted exactly, Fractions (exact points at rational t) kept."""
+    return tuple(x if isinstance(x, Fr) else Fr(float(x)) for x in p)
 
 
 def sub(a, b):
@@ -170,3 +171,157 @@ def contour_test_ccd(pts0, pts1, l, r, o=None):
         o = float_mean(pts0)
     return star_test(n, lambda i, j: csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l),
                      lambda i: csidesign2(pts0[i], pts1[i], o, r, l))
+
+
+# ---- Baselines (Sec. 6.1): SCT [SPO10] and CBC [TCYM09] --------------------------------------
+
+def _fsub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def _fdot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _fcross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def sct_candidate(loop_pts, l):
+    """SCT's float steps replicated operation by operation (IEEE doubles, no FMA, as the core is
+    built): the projection frame, the projected coordinates, and the [SPO10] line search.
+    Returns (o, u, k) with o the candidate kernel point, or (None, u, k) if the search fails.
+    These steps only choose o; the verdict is then exact (sct_test)."""
+    l = tuple(float(x) for x in l)
+    ax, ay, az = abs(l[0]), abs(l[1]), abs(l[2])
+    k = 0 if (ax <= ay and ax <= az) else (1 if ay <= az else 2)
+    u = [(0.0, l[2], -l[1]), (-l[2], 0.0, l[0]), (l[1], -l[0], 0.0)][k]
+    w = _fcross(l, u)
+    uu = _fdot(u, u)
+    c = tuple(float(x) for x in loop_pts[0])
+    X, Y = [], []
+    for p in loop_pts:
+        d = _fsub(tuple(float(x) for x in p), c)
+        X.append(_fdot(d, u))
+        Y.append(_fdot(d, w))
+    m = float_mean([tuple(float(x) for x in p) for p in loop_pts])
+    dm = _fsub(m, c)
+    Xm, Ym = _fdot(dm, u), _fdot(dm, w)
+    inf = float("inf")
+    lo, hi = [-inf, -inf], [inf, inf]
+    n = len(loop_pts)
+    for i in range(n):
+        j = (i + 1) % n
+        ex_, ey = X[j] - X[i], Y[j] - Y[i]
+        if ey == 0.0:
+            side_ = ex_ * (Ym - Y[i])
+            if not side_ > 0:
+                lo[0] = inf
+            if not side_ < 0:
+                lo[1] = inf
+            continue
+        x = X[i] + ex_ * (Ym - Y[i]) / ey
+        if ey > 0:
+            hi[0], lo[1] = min(hi[0], x), max(lo[1], x)
+        else:
+            lo[0], hi[1] = max(lo[0], x), min(hi[1], x)
+    for s in range(2):
+        if lo[s] < hi[s] and abs(lo[s]) != inf and abs(hi[s]) != inf:
+            xo = 0.5 * (lo[s] + hi[s])
+            t = (xo - Xm) / uu
+            return (m[0] + t * u[0], m[1] + t * u[1], m[2] + t * u[2]), u, k
+    return None, u, k
+
+
+SCT_RAY_SLOPES = (0.6180339887498949, -1.3247179572447460)
+
+
+def sct_test(loop_pts, l):
+    """SCT with exact signs: the candidate o of sct_candidate, then the star test (Sec. 3.3) on the
+    exact projections, whose orientations are Side (Sec. 3.4); the ray r = u + phi e_k of the
+    first slope, then of the second if the first passes through a vertex. Returns (passed, reason, edge, o, r) with the core's codes."""
+    o, u, k = sct_candidate(loop_pts, l)
+    if o is None:
+        return False, 6, -1, None, None
+    n = len(loop_pts)
+    kernel = lambda i, j: side_sign(o, loop_pts[i], loop_pts[j], l)  # noqa: E731
+    for phi in SCT_RAY_SLOPES:
+        r = tuple(phi if i == k else u[i] for i in range(3))  # u + phi e_k (u_k = 0)
+        passed, reason, edge = star_test(n, kernel, lambda i: ray_side_sign_literal(loop_pts[i], o, r, l))
+        if reason != 3:
+            break
+    return passed, reason, edge, o, r
+
+
+def _strict(s):
+    return s in (1, -1)
+
+
+def _cbc_pairs(n, side, along_dir, along):
+    """The O(n^2) pair loop of [TCYM09] on sign functions that hold over the whole motion
+    (2 = not one sign throughout); returns (passed, reason, edge, other_edge)."""
+    def apart(a, b, c, d):
+        s1, s2, s3, s4 = side(a, b, c), side(a, b, d), side(c, d, a), side(c, d, b)
+        if _strict(s1) and s1 == s2 or _strict(s3) and s3 == s4:
+            return True
+        if (s1, s2, s3, s4) != (0, 0, 0, 0):
+            return False
+        nv = along_dir(a, b)
+        g = along(c, a, nv)
+        return _strict(g) and along(c, b, nv) == g and along(d, a, nv) == g and along(d, b, nv) == g
+
+    def adjacent(a, b, c):
+        t = side(a, b, c)
+        if _strict(t):
+            return True
+        if t != 0:
+            return False
+        nv = along_dir(a, b)
+        ga = along(a, b, nv)
+        return _strict(ga) and along(c, b, nv) == -ga
+
+    for i in range(n):
+        i1 = (i + 1) % n
+        for j in range(i + 1, n):
+            j1 = (j + 1) % n
+            if j == i1:
+                ok = adjacent(i, i1, j1)
+            elif j1 == i:
+                ok = adjacent(j, i, i1)
+            else:
+                ok = apart(i, i1, j, j1)
+            if not ok:
+                return False, 7, i, j
+    return True, 0, -1, -1
+
+
+def cbc_test_ccd(pts0, pts1, l):
+    """CBC over a linear step with exact signs: Side(a(t), b(t), c(t), l) by its Bernstein
+    coefficients (all three of one strict sign, or all zero), f(p(t)) - f(q(t)) by its values at
+    t = 0 and t = 1; n of f from edge (a, b) at t = 0, rounded as the core does."""
+    lq = fr3(l)
+
+    def side(a, b, c):
+        A0, B0 = sub(fr3(pts0[a]), fr3(pts0[c])), sub(fr3(pts0[b]), fr3(pts0[c]))
+        A1, B1 = sub(fr3(pts1[a]), fr3(pts1[c])), sub(fr3(pts1[b]), fr3(pts1[c]))
+        k = (dot(cross(A0, B0), lq), dot(cross(A0, B1), lq) + dot(cross(A1, B0), lq), dot(cross(A1, B1), lq))
+        s = [sgn(x) for x in k]
+        if s == [0, 0, 0]:
+            return 0
+        return s[0] if s[0] != 0 and s[0] == s[1] == s[2] else 2
+
+    def along_dir(a, b):
+        lf = tuple(float(x) for x in l)
+        return _fcross(lf, _fsub(tuple(float(x) for x in pts0[b]), tuple(float(x) for x in pts0[a])))
+
+    def along(p, q, nv):
+        s0 = ray_side_sign_literal(pts0[p], pts0[q], nv, l)
+        s1 = ray_side_sign_literal(pts1[p], pts1[q], nv, l)
+        return s0 if s0 != 0 and s0 == s1 else 2
+
+    return _cbc_pairs(len(pts0), side, along_dir, along)
+
+
+def cbc_test(pts, l):
+    """CBC at one pose (the DCD use): the CCD test with no motion."""
+    return cbc_test_ccd(pts, pts, l)

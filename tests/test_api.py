@@ -66,8 +66,15 @@ def test_trace_must_be_bool():
 
 
 def test_bad_method_and_mesh():
-    with pytest.raises(ValueError, match=r"method: expected one of \('aabb', 'nc', 'aabb\+front', 'nc\+front'\), got 'sct'"):
-        conecull.SelfCollider(conecull.Mesh(F), method="sct")
+    with pytest.raises(ValueError, match=r"method: expected one of \('aabb', 'nc', 'aabb\+front', 'nc\+front', 'sct', "
+                       r"'cbc'\), got 'dc'"):
+        conecull.SelfCollider(conecull.Mesh(F), method="dc")
+    # "sct" is DCD only ([SPO10]); the core refuses it too
+    sct = conecull.SelfCollider(conecull.Mesh(F), method="sct")
+    with pytest.raises(ValueError, match=r"method: 'sct' is a discrete \(DCD\) method; CCD queries need one of"):
+        sct.ccd(V, V)
+    with pytest.raises(ValueError, match=r"method: 'sct' is a discrete \(DCD\) method \[SPO10\]"):
+        sct._core.ccd(V, V, "exact", False, False)
     with pytest.raises(ValueError, match=r"method: expected one of .*, got 'nc\+fronts'"):
         conecull.SelfCollider(conecull.Mesh(F), method="nc+fronts")
     with pytest.raises(ValueError, match=r"mesh: expected a conecull.Mesh, got ndarray"):

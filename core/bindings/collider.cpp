@@ -25,6 +25,8 @@ const char* reason_name(int r) {
         case ContourReason::kRayThroughVertex: return "ray_through_vertex";
         case ContourReason::kMultipleCrossings: return "multiple_crossings";
         case ContourReason::kNoCrossing: return "no_crossing";
+        case ContourReason::kNoKernelOnSearchLine: return "no_kernel_on_search_line";
+        case ContourReason::kEdgesMayOverlap: return "edges_may_overlap";
     }
     return "unknown";
 }
@@ -53,6 +55,7 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     d["seconds_refit"] = s.seconds_refit;
     d["seconds_traversal"] = s.seconds_traversal;
     d["seconds_elementary"] = s.seconds_elementary;
+    d["seconds_contour"] = s.seconds_contour;
     return d;
 }
 

@@ -4,6 +4,8 @@
 #include <pybind11/stl.h>
 
 #include "conecull/contour/contour_test.hpp"
+#include "conecull/contour/contour_test_cbc.hpp"
+#include "conecull/contour/contour_test_sct.hpp"
 #include "stages.hpp"
 
 namespace conecull::bind {
@@ -25,8 +27,23 @@ py::dict verdict_dict(const ContourVerdict& v) {
     d["crossings"] = v.crossings;
     d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
     d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
+    d["other_edge"] = v.other_edge;
+    d["edges_visited"] = v.edges_visited;
     return d;
 }
+
+namespace {
+
+// Validated (loop, axis) of the single-loop tests; positions checked by the caller.
+Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
+    if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
+    if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
+    for (py::ssize_t i = 0; i < loop.shape(0); ++i)
+        if (loop.data()[i] < 0 || loop.data()[i] >= n_vertices) throw py::value_error("loop: index out of range");
+    return {l.data()[0], l.data()[1], l.data()[2]};
+}
+
+}  // namespace
 
 void bind_contour(py::module_& m) {
     m.def(
@@ -52,6 +69,37 @@ void bind_contour(py::module_& m) {
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(),
         "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,); ray r (3,) if given,\n"
         "else the core's choice (generic directions, a second one if the first hits a vertex).");
+    m.def(
+        "sct_contour_test",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+            require_shape(V, "V", -1, 3);
+            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            ProjectionScratch scratch;
+            return verdict_dict(
+                projected_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis, scratch));
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"),
+        "The \"sct\" baseline's projected star-contour test [SPO10] on one loop (certified).");
+    m.def(
+        "cbc_contour_test",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+            require_shape(V, "V", -1, 3);
+            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            return verdict_dict(quadratic_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis));
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"),
+        "The \"cbc\" baseline's O(n^2) edge-pair contour test [TCYM09] at one pose (certified).");
+    m.def(
+        "cbc_contour_test_ccd",
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
+            require_shape(V0, "V0", -1, 3);
+            require_shape(V1, "V1", V0.shape(0), 3);
+            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            return verdict_dict(quadratic_contour_test_ccd(loop.data(), static_cast<int32_t>(loop.shape(0)), V0.data(),
+                                                           V1.data(), axis));
+        },
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"),
+        "The \"cbc\" baseline's O(n^2) edge-pair contour test [TCYM09] over the step V0 -> V1 (certified).");
 }
 
 }  // namespace conecull::bind

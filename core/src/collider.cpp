@@ -38,8 +38,10 @@ Method parse_method(const std::string& name) {
     if (name == "nc") return Method::kNc;
     if (name == "aabb+front") return Method::kAabbFront;
     if (name == "nc+front") return Method::kNcFront;
+    if (name == "sct") return Method::kSct;
+    if (name == "cbc") return Method::kCbc;
     throw std::invalid_argument("method: unknown method '" + name +
-                                "'; expected one of 'aabb', 'nc', 'aabb+front', 'nc+front'");
+                                "'; expected one of 'aabb', 'nc', 'aabb+front', 'nc+front', 'sct', 'cbc'");
 }
 
 const char* method_name(Method m) {
@@ -48,6 +50,8 @@ const char* method_name(Method m) {
         case Method::kNc: return "nc";
         case Method::kAabbFront: return "aabb+front";
         case Method::kNcFront: return "nc+front";
+        case Method::kSct: return "sct";
+        case Method::kCbc: return "cbc";
     }
     return "unknown";
 }
@@ -68,7 +72,7 @@ void SelfCollider::build(const double* V) {
 // Stage (2) of Sec. 4.1 with the collider's method; candidates_ receives the triangle pairs.
 template <class Tracer, class Motion>
 void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) {
-    BvttFront& front = std::is_same_v<Motion, Discrete> ? dcd_front_ : ccd_front_;
+    BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
     switch (method_) {
         case Method::kAabb:
@@ -84,6 +88,24 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
         case Method::kNcFront:
             SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
                                                              &front).run();
+            break;
+        case Method::kSct:
+            if constexpr (!Motion::kContinuous) {
+                const DiscreteProjected m{motion.V, &projection_};
+                SelfCollideTraversal<true, Tracer, DiscreteProjected>(bvh_, contours_, cones_, m, tracer, st, candidates_)
+                    .run();
+            }  // CCD: rejected by ccd()
+            break;
+        case Method::kCbc:
+            if constexpr (Motion::kContinuous) {
+                const ContinuousQuadratic m{motion.V0, motion.V1};
+                SelfCollideTraversal<true, Tracer, ContinuousQuadratic>(bvh_, contours_, cones_, m, tracer, st,
+                                                                        candidates_).run();
+            } else {
+                const DiscreteQuadratic m{motion.V};
+                SelfCollideTraversal<true, Tracer, DiscreteQuadratic>(bvh_, contours_, cones_, m, tracer, st, candidates_)
+                    .run();
+            }
             break;
     }
 }
@@ -153,6 +175,11 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 
 CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer,
                             bool want_toi) {
+    // [SPO10]'s star-contour test is a DCD test; Sec. 3.2: "It is not clear whether the linear
+    // time algorithm for contour test in [SPO10] extends to CCD". The CCD baseline is "cbc".
+    if (method_ == Method::kSct)
+        throw std::invalid_argument("method: 'sct' is a discrete (DCD) method [SPO10]; for CCD use 'nc', "
+                                    "'nc+front' or the CCD baseline 'cbc'");
     CcdResult res;
     auto t0 = Clock::now();
     if (!built_) build(V0);

@@ -59,7 +59,7 @@ def check_step(cols, i, j, where):
 def colliders():
     F, _ = poses()
     mesh = conecull.Mesh(F)
-    return {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
+    return {m: conecull.SelfCollider(mesh, method=m) for m in conecull.CCD_METHODS}
 
 
 def test_steps_in_sequence():

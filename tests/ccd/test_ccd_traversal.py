@@ -62,7 +62,7 @@ def test_methods_equal_brute_force(name, F, V0, V1, arithmetic):
         vf_ex, ee_ex = brute_force_ccd(F, V0, V1, "exact")
         assert vf_ex <= vf_ref and ee_ex <= ee_ref  # conservative never misses
     mesh = conecull.Mesh(F, n_vertices=len(V0))
-    for method in conecull.METHODS:
+    for method in conecull.CCD_METHODS:
         col = conecull.SelfCollider(mesh, method=method)
         res = col.ccd(V0, V1, arithmetic=arithmetic)
         assert {tuple(r) for r in res.vf.tolist()} == vf_ref, f"{name} {method}: VF differ"
@@ -89,7 +89,7 @@ STEPS_REAL = scalable_ccd_steps()
 def test_real_steps_exact_equals_ground_truth(scene, step):
     F, V0, V1, vf_true, ee_true = load_scalable_step(scene, step)
     mesh = conecull.Mesh(F, n_vertices=len(V0))
-    for method in conecull.METHODS:
+    for method in conecull.CCD_METHODS:
         res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic="exact")
         vf = {tuple(r) for r in res.vf.tolist()}
         ee = {tuple(r) for r in res.ee.tolist()}

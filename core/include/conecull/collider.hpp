@@ -20,9 +20,13 @@ namespace conecull {
 
 // "aabb", "nc" (Alg. 2), and with a BVTT front kept between queries: "aabb+front" (a
 // conventional front, [TMLT11]) and "nc+front" (Alg. 4). All four give the same candidates as
-// their method without a front, hence the same results.
-enum class Method { kAabb, kNc, kAabbFront, kNcFront };
-inline bool uses_cones(Method m) { return m == Method::kNc || m == Method::kNcFront; }
+// their method without a front, hence the same results. The baselines of Sec. 6.1 are Alg. 2
+// with another contour test: "sct" (the projected star-contour test of [SPO10]; DCD only, as
+// [SPO10]: Sec. 3.2 notes it is not known to extend to CCD) and "cbc" (the O(n^2) edge-pair
+// test of [TCYM09]; on a DCD query, the same test at the one pose). Every contour test is
+// certified, so all methods give the same results.
+enum class Method { kAabb, kNc, kAabbFront, kNcFront, kSct, kCbc };
+inline bool uses_cones(Method m) { return m != Method::kAabb && m != Method::kAabbFront; }
 inline bool tracks_front(Method m) { return m == Method::kAabbFront || m == Method::kNcFront; }
 
 Method parse_method(const std::string& name);  // throws std::invalid_argument
@@ -93,6 +97,7 @@ class SelfCollider {
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives
     std::vector<uint64_t> vf_keys_, ee_keys_;
     std::vector<int32_t> vertex_owner_, edge_owner_;  // CCD: the face that produces a vertex's / edge's pairs
+    ProjectionScratch projection_;                     // "sct": projected contour coordinates
 };
 
 }  // namespace conecull

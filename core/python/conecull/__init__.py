@@ -5,7 +5,7 @@ Normal Cones": an AABB BVH whose nodes carry normal cones and boundary contours,
 unprojected contour test (Alg. 1, 2), with exact predicates throughout.
 
     mesh = conecull.Mesh(faces)                      # (m, 3) int
-    col = conecull.SelfCollider(mesh, method="nc")   # "aabb" | "nc" | "aabb+front" | "nc+front"
+    col = conecull.SelfCollider(mesh, method="nc")   # "aabb" | "nc" | "aabb+front" | "nc+front" | "sct" | "cbc"
     res = col.dcd(V)                                 # (n, 3) float64 (float32 accepted)
     res.pairs                                        # (k, 2) int64, i < j, sorted
     res.stats                                        # dict of counters and seconds
@@ -14,8 +14,8 @@ unprojected contour test (Alg. 1, 2), with exact predicates throughout.
     conecull.edge_edge_ccd(ea0_t0, ea1_t0, eb0_t0, eb1_t0, ea0_t1, ea1_t1, eb0_t1, eb1_t1)
 """
 
-from conecull._api import ARITHMETIC, CcdResult, DcdResult, Mesh, SelfCollider, METHODS, edge_edge_ccd, vertex_face_ccd
+from conecull._api import ARITHMETIC, CCD_METHODS, CcdResult, DcdResult, Mesh, SelfCollider, METHODS, edge_edge_ccd, vertex_face_ccd
 
-__all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "ARITHMETIC", "vertex_face_ccd",
+__all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "CCD_METHODS", "ARITHMETIC", "vertex_face_ccd",
            "edge_edge_ccd"]
 __version__ = "0.1.0"

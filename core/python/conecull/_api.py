@@ -9,7 +9,10 @@ import numpy as np
 from conecull import _core
 from conecull.trace import Trace
 
-METHODS = ("aabb", "nc", "aabb+front", "nc+front")
+METHODS = ("aabb", "nc", "aabb+front", "nc+front", "sct", "cbc")
+# "sct" (the projected star-contour test of [SPO10]) is a DCD method only: the paper (Sec. 3.2)
+# notes it is not known to extend to CCD, whose baseline is "cbc" ([TCYM09]).
+CCD_METHODS = tuple(m for m in METHODS if m != "sct")
 
 # The exact predicates stay exact while no product of coordinate differences under- or
 # overflows; this range leaves ample room (degree-4 terms within 2^-1000 .. 2^530).
@@ -178,6 +181,10 @@ class SelfCollider:
     "aabb+front" / "nc+front" (Alg. 4): the same with a BVTT front kept between queries (one
     per query kind), so each query resumes the box tests where the previous one stopped. The
     front methods give exactly the results of their method without a front.
+    The paper's baselines (Sec. 6.1), Alg. 2 with another contour test, certified like ours (so
+    the same results): "sct", the projected star-contour test of Schvartzman et al. 2010 (DCD
+    only; a CCD query raises ValueError), and "cbc", the O(n^2) edge-pair contour test of Tang
+    et al. 2009 (CCD; on a DCD query the same test at the one pose).
     leaf_size: at most this many triangles per BVH leaf (2 measured fastest; see the benchmark).
     """
 
@@ -207,6 +214,8 @@ class SelfCollider:
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
         """
+        if self.method not in CCD_METHODS:
+            raise ValueError(f"method: {self.method!r} is a discrete (DCD) method; CCD queries need one of {CCD_METHODS}")
         _check_arithmetic(arithmetic)
         for name, flag in (("trace", trace), ("toi", toi)):
             if not isinstance(flag, (bool, np.bool_)):

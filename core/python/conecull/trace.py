@@ -40,7 +40,7 @@ EVENT_KINDS: dict[str, EventKind] = {
         )),
         EventKind("contour", "Contour test of a node whose cone passed (Alg. 1), or why it could not run.", (
             Field("node", "int32", (), "node id", "BVH node"),
-            Field("reason", "uint8", (), "code", "0 passed (culled); 1-5 why Alg. 1 failed; 16+ why the node is ineligible (REASONS)"),
+            Field("reason", "uint8", (), "code", "0 passed (culled); 1-5 why Alg. 1 failed, 6 sct, 7 cbc; 16+ why the node is ineligible (REASONS)"),
             Field("edge", "int32", (), "contour index", "contour edge (v_i, v_i+1) / vertex where Alg. 1 failed; -1 if none"),
             Field("crossings", "int32", (), "count", "ray crossings counted before the verdict"),
             Field("kernel", "float64", (3,), "length", "kernel point o (mean of the contour vertices)"),
@@ -74,6 +74,8 @@ REASONS: dict[int, tuple[str, str]] = {
     3: ("ray_through_vertex", "the test ray passes exactly through contour vertex {edge} for every ray direction tried"),
     4: ("multiple_crossings", "the ray from the kernel point crosses the contour {crossings} times: the projected contour winds more than once"),
     5: ("no_crossing", "the ray never crosses the contour"),
+    6: ("no_kernel_on_search_line", "sct: the line search found no point of the search line inside every edge's half-plane, so no kernel point was tried"),
+    7: ("edges_may_overlap", "cbc: contour edge {edge} and another edge could not be proven apart in projection (they cross, touch, or a sign is undecidable)"),
     16 + 1: ("nonmanifold", "the node's triangles touch a non-manifold edge or vertex, so it is never culled by normal cones"),
     16 + 2: ("inconsistent_orientation", "an edge inside the node is used twice in the same direction (or more than twice)"),
     16 + 3: ("disconnected", "the node's triangles are not one connected patch"),

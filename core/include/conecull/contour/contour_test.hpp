@@ -16,13 +16,18 @@ enum class ContourReason : uint8_t {
     kRayThroughVertex = 3,   // the ray from o passes exactly through v_i (Alg. 1 l. 24)
     kMultipleCrossings = 4,  // the ray crosses the contour twice: it winds more than once (l. 29)
     kNoCrossing = 5,         // never crosses: impossible for a closed loop passing the kernel test
+    // Baselines (Sec. 6.1):
+    kNoKernelOnSearchLine = 6,  // "sct": the line search of [SPO10] found no kernel point on its line
+    kEdgesMayOverlap = 7,       // "cbc": edges (edge, other_edge) not proven apart in projection [TCYM09]
 };
+inline constexpr int kContourReasons = 8;
 
 struct ContourVerdict {
     ContourReason reason = ContourReason::kPassed;
     int32_t edge = -1;       // contour edge (v_edge, v_edge+1) where it failed
     int32_t crossings = 0;   // ray crossings counted so far
-    int32_t edges_visited = 0;  // contour edges examined (over all ray attempts)
+    int32_t edges_visited = 0;  // contour edges examined (over all ray attempts; cbc: 2 per edge pair)
+    int32_t other_edge = -1;    // cbc: the second edge of the pair that failed
     Vec3 kernel;             // o
     Vec3 ray;                // r
     bool passed() const { return reason == ContourReason::kPassed; }

@@ -15,8 +15,8 @@ struct DcdStats {
     int64_t contour_tests = 0;       // Alg. 1 runs
     int64_t contour_passed = 0;      // nodes culled
     int64_t contour_failed = 0;
-    std::array<int64_t, 6> contour_reasons{};  // by ContourReason
-    int64_t contour_edges = 0;       // contour edges visited by Alg. 1
+    std::array<int64_t, 8> contour_reasons{};  // by ContourReason (kContourReasons)
+    int64_t contour_edges = 0;       // contour edges visited by the contour test (cbc: 2 per edge pair)
     // BVTT front (methods "aabb+front", "nc+front"; 0 for the others), after the query:
     int64_t front_entries = 0;       // entries kept for the next query (over all sub-segments)
     int64_t front_bytes = 0;         // their size: front_entries * sizeof(FrontEntry)
@@ -25,6 +25,7 @@ struct DcdStats {
     int64_t elementary_tests = 0;
     int64_t colliding_pairs = 0;
     double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;
+    double seconds_contour = 0;      // inside the contour tests (steady clock around each call; part of traversal)
 };
 
 }  // namespace conecull
