@@ -15,7 +15,8 @@ class SelfContact(Effect):
     contact: a fail-safe with conecull's own CCD. Every vertex of a pair that touches during
       the substep (conservative arithmetic: no contact is ever missed), and its `dilate` rings
       of neighbours, keeps its previous position, and the step is checked again until no
-      contact is left (freezing everything is contact-free, so this ends). From an
+      contact is left (freezing everything is contact-free, so this ends); each further round
+      freezes one ring more, so piled-up cloth settles in a few rounds. From an
       intersection-free state the cloth can then never pass through itself."""
     name = "self-contact"
     stages = ("collide", "contact")
@@ -52,7 +53,7 @@ class SelfContact(Effect):
 
     def contact(self, sim, dt):
         E = sim.edges
-        for _ in range(self.max_rounds):
+        for round_ in range(self.max_rounds):
             self.rounds += 1
             res = self.col.ccd(sim.x, sim.p, arithmetic="conservative")
             if len(res.vf) == 0 and len(res.ee) == 0:
@@ -61,7 +62,7 @@ class SelfContact(Effect):
             mark[res.vf[:, 0]] = True
             mark[sim.faces[res.vf[:, 1]].ravel()] = True
             mark[E[res.ee.ravel()].ravel()] = True
-            for _ in range(self.dilate):
+            for _ in range(self.dilate + round_):  # each round freezes a wider ring: few rounds
                 mark[E[mark[E[:, 0]] | mark[E[:, 1]]].ravel()] = True
             moving = np.flatnonzero(mark & np.any(sim.p != sim.x, axis=1))
             if len(moving) == 0:  # contact already at the start of the step: nothing to undo
