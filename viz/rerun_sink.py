@@ -7,7 +7,8 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/contours/ray     Arrows3D, their rays r (projected on the plane of the test)
   /scene/cones            Arrows3D, cone axes of the nodes that were not culled
   /scene/bvh              Boxes3D, BVH nodes at the chosen depth
-  /stats/...              Scalars: tests, verdicts by reason, collisions, ms per stage
+  /stats/...              Scalars: tests, verdicts by reason, collisions, ms per stage (contour
+                          tests included), front entries added/removed (front methods)
   /log                    TextLog: one plain sentence per failing node
   /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end)
 For CCD recordings frame k shows the step from frame k to frame k + 1.
@@ -94,8 +95,13 @@ class RerunRecorder:
             rec.log("/stats/ccd/vf_contacts", rr.Scalars(s["vf_contacts"]))
             rec.log("/stats/ccd/ee_contacts", rr.Scalars(s["ee_contacts"]))
             rec.log("/stats/ccd/npf_culled", rr.Scalars(s["npf_culled"]))
-        for stage in ("refit", "traversal", "elementary"):
-            rec.log(f"/stats/ms/{stage}", rr.Scalars(1e3 * s[f"seconds_{stage}"]))
+        for stage in ("refit", "traversal", "elementary", "contour"):
+            if f"seconds_{stage}" in s:
+                rec.log(f"/stats/ms/{stage}", rr.Scalars(1e3 * s[f"seconds_{stage}"]))
+        if s.get("method", "").endswith("+front"):  # BVTT front growth (Alg. 4), frame by frame
+            rec.log("/stats/front/entries", rr.Scalars(s["front_entries"]))
+            rec.log("/stats/front/added", rr.Scalars(s["front_added"]))
+            rec.log("/stats/front/removed", rr.Scalars(s["front_removed"]))
 
         for line in lay.sentences[:MAX_LOG_LINES]:
             rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.INFO))

@@ -49,3 +49,17 @@ def test_failing_contour_strips_match_core(recording):
         assert len(strips.get(k) or []) == expect, f"frame {k}"
         checked += expect > 0
     assert checked >= 3  # the scene really has failing contours to draw
+
+
+def test_front_growth_is_recorded(tmp_path):
+    """With a front method the recording carries the front's size and its changes per frame,
+    equal to the core's stats."""
+    F, frames = load_sequence("fold")
+    path = str(tmp_path / "front.rrd")
+    stats = record(path, F, frames[-8:], method="nc+front", recording_id="test-front")  # folded: a front
+    for key in ("entries", "added", "removed"):
+        rows = rows_by_frame(path, f"/stats/front/{key}", "Scalars:scalars")
+        assert [v[0] for _, v in sorted(rows.items())] == [s[f"front_{key}"] for s in stats]
+    assert max(s["front_added"] for s in stats) > 0 and min(s["front_entries"] for s in stats) > 0
+    contour_ms = rows_by_frame(path, "/stats/ms/contour", "Scalars:scalars")
+    assert len(contour_ms) == 8
