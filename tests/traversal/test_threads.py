@@ -100,3 +100,23 @@ def test_threads_default_and_bad_values():
             col.ccd(V, V, threads=bad)
     with pytest.raises(ValueError, match="threads"):
         conecull._core.SelfCollider(mesh._topo, "nc", 2, -1)  # the core checks too
+
+
+def test_refit_identical_for_any_thread_count():
+    """The parallel refit (subtrees below a cut in parallel, then the nodes above it) gives the
+    same boxes and cones, bit for bit; the mesh is large enough for the parallel sweep."""
+    F, frames = sequences()["folding_sheet"]
+    mesh = conecull.Mesh(F)
+    assert 2 * mesh.n_faces - 1 >= 4096  # BVH nodes with leaf_size 1: the parallel sweep's threshold
+    ref = None
+    for threads in THREADS:
+        col = conecull.SelfCollider(mesh, method="nc", leaf_size=1, threads=threads)
+        col.dcd(frames[0])
+        col.dcd(frames[-1])
+        dcd = (col.bvh_arrays()["box"], col.cone_arrays())
+        col.ccd(frames[-2], frames[-1])
+        ccd = (col.bvh_arrays()["box"], col.cone_arrays())
+        got = [dcd[0], *dcd[1].values(), ccd[0], *ccd[1].values()]
+        if ref is None:
+            ref = got
+        assert all(np.array_equal(a, b) for a, b in zip(ref, got)), threads
