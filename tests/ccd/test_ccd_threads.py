@@ -20,7 +20,7 @@ def ccd_runs(F, frames, method, arithmetic, threads, toi):
 
 @pytest.mark.parametrize("scene", ["folding_sheet", "crumpling_sphere"])
 @pytest.mark.parametrize("arithmetic", ["float", "conservative", "exact"])
-@pytest.mark.parametrize("method", conecull.METHODS)
+@pytest.mark.parametrize("method", conecull.CCD_METHODS)
 def test_ccd_identical_for_any_thread_count(scene, arithmetic, method):
     F, frames = sequences()[scene]
     # Steps where contacts happen; time-of-impact bounds on the sheet (slow on the crumpled sphere).
@@ -45,7 +45,7 @@ def test_ccd_equals_brute_force_on_many_threads():
     vf_ref, ee_ref = brute_force_ccd(F, V0, V1, "exact")
     assert vf_ref and ee_ref
     mesh = conecull.Mesh(F, n_vertices=len(V0))
-    for method in conecull.METHODS:
+    for method in conecull.CCD_METHODS:
         res = conecull.SelfCollider(mesh, method=method, leaf_size=1).ccd(V0, V1, threads=3)
         assert {tuple(r) for r in res.vf.tolist()} == vf_ref, method
         assert {tuple(r) for r in res.ee.tolist()} == ee_ref, method
