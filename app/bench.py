@@ -1,5 +1,6 @@
-"""Benchmarks (not tests): print markdown tables and write JSON. Single-threaded; medians of
-several timed runs per frame, then the median over frames."""
+"""Benchmarks (not tests): print markdown tables and write JSON. One thread unless told
+(--threads; the threads suite compares thread counts); medians of several timed runs per frame,
+then the median over frames."""
 
 from __future__ import annotations
 
@@ -28,14 +29,14 @@ def _folded_sheet_frames(n_triangles: int, n_frames: int):
     return F, [fold(V, a, radius=0.03) for a in angles]
 
 
-def _time_methods(mesh, frames, configs, repeats):
+def _time_methods(mesh, frames, configs, repeats, threads=1):
     """Per frame k >= 1 and per run, every (method, leaf size) answers an untimed query of frame
     k - 1, then a timed one of frame k: a front method starts from the front frame k - 1 left,
     as in a simulation (timing the same frame twice in a row would hand it a perfect front).
     The configurations take turns within each run, so load on a shared machine hits all alike."""
     cols, build_s = {}, {}
     for cfg in configs:
-        cols[cfg] = conecull.SelfCollider(mesh, method=cfg[0], leaf_size=cfg[1])
+        cols[cfg] = conecull.SelfCollider(mesh, method=cfg[0], leaf_size=cfg[1], threads=cfg[2] if len(cfg) > 2 else threads)
         t0 = time.perf_counter()
         cols[cfg].dcd(frames[0])  # builds the BVH and contours
         build_s[cfg] = time.perf_counter() - t0
@@ -58,17 +59,18 @@ def _time_methods(mesh, frames, configs, repeats):
     return build_s, per_frame
 
 
-def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results") -> int:
+def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
+                  threads: int = 1) -> int:
     F, frames = _folded_sheet_frames(n_triangles, n_frames)
     mesh = conecull.Mesh(F)
     print(f"# DCD benchmark: folded sheet, {mesh.n_faces} triangles, {n_frames} frames ({n_frames - 1} timed), "
-          f"{repeats} runs per frame (medians), one thread, {platform.processor() or platform.machine()}")
+          f"{repeats} runs per frame (medians), {threads} thread(s), {platform.processor() or platform.machine()}")
     print()
     print("| method | leaf | build s | query ms | refit ms | traversal ms | elementary ms | box tests | cone tests | "
           "contour tests | culled | elementary tests | colliding pairs | front entries | front KiB |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     configs = [(method, leaf) for method in conecull.METHODS for leaf in (1, 2, 4)]
-    build, timed = _time_methods(mesh, frames, configs, repeats)
+    build, timed = _time_methods(mesh, frames, configs, repeats, threads)
     results = []
     pairs_ref = None
     for method, leaf in configs:
@@ -106,9 +108,11 @@ def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5,
     return 0
 
 
-def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 7, out: str = "bench-results") -> int:
+def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 7, out: str = "bench-results",
+                    threads: int = 1) -> int:
     """Trace off vs trace on vs a build without any hook call site (conecull._core_nohooks),
-    on the DCD scene with method nc. The three variants run interleaved, frame by frame."""
+    on the DCD scene with method nc. The three variants run interleaved, frame by frame, on one
+    thread (a traced query always runs on one)."""
     from conecull import _core
 
     try:
@@ -124,7 +128,7 @@ def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 
     variants = {}
     for name, mod, trace in (("hook-free build", _core_nohooks, False), ("trace off", _core, False),
                              ("trace on", _core, True)):
-        col = mod.SelfCollider(mod.build_topology(F32, n), "nc", 2)
+        col = mod.SelfCollider(mod.build_topology(F32, n), "nc", 2, 1)
         col.dcd(frames[0], False)
         variants[name] = (col, trace)
     times = {name: [] for name in variants}
@@ -170,10 +174,11 @@ def _shared_data_dir():
     return None
 
 
-def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3, out: str = "bench-results") -> int:
+def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3, out: str = "bench-results",
+                  threads: int = 1) -> int:
     """What accuracy costs in time: per arithmetic mode, on the shared real steps and a generated
     64K cloth step, ms per step, us per elementary test, FN and FP against ground truth; and the
-    same for the single-query sets. Method nc, one thread, medians of `repeats` runs."""
+    same for the single-query sets. Method nc, one thread (or `threads`), medians of `repeats` runs."""
     import sys
 
     data = _shared_data_dir()
@@ -188,24 +193,16 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
             for vf in sorted((scene / "boxes").glob("*vf.json")):
                 F, V0, V1, vf_t, ee_t = load_scalable_step(scene.name, vf.name[:-len("vf.json")])
                 steps.append((f"{scene.name} ({len(F) // 1000}K)", F, V0, V1, vf_t, ee_t))
-    F, V = sheet_for_triangles(n_triangles)
-    V = V.copy()
-    V[:, 2] = 0.002 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
-    G0, G1 = fold(V, 1.10 * np.pi, radius=0.03), fold(V, 1.13 * np.pi, radius=0.03)
-    steps.append((f"generated fold ({len(F) // 1000}K, exact grid)", F, G0, G1, None, None))
-    # The same step with every vertex jittered by 1e-5: no exact symmetries, as in a simulation.
-    rng = np.random.default_rng(0)
-    J = 1e-5 * rng.standard_normal(V.shape)
-    steps.append((f"generated fold ({len(F) // 1000}K, jittered)", F, G0 + J, G1 + J, None, None))
+    steps.extend(_generated_ccd_steps(n_triangles))
 
-    print(f"# CCD: what accuracy costs in time (method nc, one thread, median of {repeats} runs)")
+    print(f"# CCD: what accuracy costs in time (method nc, {threads} thread(s), median of {repeats} runs)")
     print()
     print("| step | mode | ms per step | elementary tests | us per test | FN | FP |")
     print("|---|---|---|---|---|---|---|")
     rows = []
     for name, F, V0, V1, vf_t, ee_t in steps:
         mesh = conecull.Mesh(F, n_vertices=len(V0))
-        col = conecull.SelfCollider(mesh, method="nc")
+        col = conecull.SelfCollider(mesh, method="nc", threads=threads)
         col.dcd(V0)  # build
         # the modes take turns within each repeat, so load on a shared machine hits them alike
         times, last = {m: [] for m in ("float", "conservative", "exact")}, {}
@@ -286,7 +283,7 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     print("|---|---|---|---|---|---|---|---|---|---|")
     rows = []
     for kind, methods, queries in suites:
-        cols = {m: conecull.SelfCollider(mesh, method=m) for m in methods}
+        cols = {m: conecull.SelfCollider(mesh, method=m, threads=1) for m in methods}
         for col in cols.values():
             col.dcd(frames[0])  # builds the BVH and contours
         per = {m: [] for m in methods}
@@ -326,6 +323,94 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     print("(contour ms: per query, inside the contour tests, two steady-clock reads per test included; "
           "methods cull different nodes, so their test counts differ; paper targets: sct >= 3x nc, cbc >= 10x nc; "
           f"JSON: {path})")
+    return 0
+
+
+def _generated_ccd_steps(n_triangles: int):
+    """The generated CCD steps: the DCD scene's sheet folding from 1.10 pi to 1.13 pi."""
+    F, V = sheet_for_triangles(n_triangles)
+    V = V.copy()
+    V[:, 2] = 0.002 * np.sin(9.0 * V[:, 0]) * np.sin(7.0 * V[:, 1])
+    G0, G1 = fold(V, 1.10 * np.pi, radius=0.03), fold(V, 1.13 * np.pi, radius=0.03)
+    # The same step with every vertex jittered by 1e-5: no exact symmetries, as in a simulation.
+    rng = np.random.default_rng(0)
+    J = 1e-5 * rng.standard_normal(V.shape)
+    return [(f"generated fold ({len(F) // 1000}K, exact grid)", F, G0, G1, None, None),
+            (f"generated fold ({len(F) // 1000}K, jittered)", F, G0 + J, G1 + J, None, None)]
+
+
+def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
+                      threads: int = 2) -> int:
+    """One thread against `threads` on the same queries: DCD on the `bench dcd` scene (per
+    method, leaf 2, frames as there, fronts kept from frame to frame) and CCD on the jittered
+    generated fold step (method nc, per arithmetic mode). The two thread counts take turns
+    within each run; results are checked identical. Medians; the machine's other load shows."""
+    counts = (1, threads)
+    F, frames = _folded_sheet_frames(n_triangles, n_frames)
+    mesh = conecull.Mesh(F)
+    cpu = platform.processor() or platform.machine()
+    print(f"# Threads: 1 vs {threads} threads, {mesh.n_faces} triangles, {os.cpu_count()} cores, {cpu}")
+    print()
+    print("DCD: folded sheet, leaf 2, {} frames ({} timed), {} runs per frame (medians)".format(
+        n_frames, n_frames - 1, repeats))
+    print()
+    print("| query | threads | query ms | refit ms | traversal ms | elementary ms | speed-up |")
+    print("|---|---|---|---|---|---|---|")
+    methods = ("aabb", "nc", "aabb+front", "nc+front")
+    configs = [(m, 2, t) for m in methods for t in counts]
+    _, timed = _time_methods(mesh, frames, configs, repeats)
+    rows = []
+    for m in methods:
+        base = None
+        for t in counts:
+            pf = timed[m, 2, t]
+            assert [f["stats"] for f in pf] == [f["stats"] for f in timed[m, 2, 1]], "thread counts disagree"
+            med = {k: statistics.median(f[k] for f in pf) for k in ("wall_ms", *STAGES)}
+            base = base or med["wall_ms"]
+            row = {"kind": "dcd", "query": m, "threads": t, "query_ms": med["wall_ms"], "refit_ms": med["seconds_refit"],
+                   "traversal_ms": med["seconds_traversal"], "elementary_ms": med["seconds_elementary"],
+                   "speedup": base / med["wall_ms"]}
+            rows.append(row)
+            print(f"| dcd {m} | {t} | {row['query_ms']:.2f} | {row['refit_ms']:.2f} | {row['traversal_ms']:.2f} | "
+                  f"{row['elementary_ms']:.2f} | {row['speedup']:.2f}x |")
+    print()
+    name, F2, V0, V1, _, _ = _generated_ccd_steps(n_triangles)[1]
+    print(f"CCD: {name}, method nc, {repeats} runs (medians)")
+    print()
+    print("| query | threads | query ms | refit ms | traversal ms | pairs ms | elementary ms | speed-up |")
+    print("|---|---|---|---|---|---|---|---|")
+    cols = {t: conecull.SelfCollider(conecull.Mesh(F2, n_vertices=len(V0)), method="nc", threads=t) for t in counts}
+    for col in cols.values():
+        col.dcd(V0)  # build
+    for mode in ("float", "conservative", "exact"):
+        runs = {t: [] for t in counts}
+        for _ in range(repeats):
+            for t, col in cols.items():
+                w = time.perf_counter()
+                res = col.ccd(V0, V1, arithmetic=mode)
+                runs[t].append((time.perf_counter() - w, res))
+        ref = runs[1][0][1]
+        base = None
+        for t in counts:
+            res = runs[t][0][1]
+            assert np.array_equal(res.vf, ref.vf) and np.array_equal(res.ee, ref.ee), "thread counts disagree"
+            med = {k: statistics.median(r.stats[k] for _, r in runs[t]) for k in (*STAGES, "seconds_pairs")}
+            wall = statistics.median(w for w, _ in runs[t])
+            base = base or wall
+            row = {"kind": "ccd", "query": f"ccd {mode}", "threads": t, "query_ms": 1e3 * wall,
+                   "refit_ms": 1e3 * med["seconds_refit"], "traversal_ms": 1e3 * med["seconds_traversal"],
+                   "pairs_ms": 1e3 * med["seconds_pairs"], "elementary_ms": 1e3 * med["seconds_elementary"],
+                   "speedup": base / wall, "elementary_tests": res.stats["elementary_tests"]}
+            rows.append(row)
+            print(f"| ccd nc {mode} | {t} | {row['query_ms']:.1f} | {row['refit_ms']:.1f} | {row['traversal_ms']:.1f} | "
+                  f"{row['pairs_ms']:.1f} | {row['elementary_ms']:.1f} | {row['speedup']:.2f}x |")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "threads.json")
+    with open(path, "w") as fh:
+        json.dump({"triangles": mesh.n_faces, "frames": n_frames, "repeats": repeats, "threads": counts,
+                   "cores": os.cpu_count(), "load_avg": os.getloadavg(), "rows": rows}, fh, indent=1)
+    print()
+    print(f"(speed-up: 1-thread query ms / this; load average {os.getloadavg()[0]:.2f} at the end; JSON: {path})")
     return 0
 
 

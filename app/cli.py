@@ -50,13 +50,16 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", choices=["dcd", "trace", "ccd", "contour"],
+    p.add_argument("suite", choices=["dcd", "trace", "ccd", "contour", "threads"],
                    help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time; "
-                        "contour: contour test time, ours vs the sct and cbc baselines (Fig. 9)")
+                        "contour: contour test time, ours vs the sct and cbc baselines (Fig. 9); "
+                        "threads: 1 thread vs --threads")
     p.add_argument("--triangles", type=int, default=64000)
     p.add_argument("--frames", type=int, default=8)
     p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
+    p.add_argument("--threads", type=int, help="threads per query (dcd, ccd: default 1; trace, contour: always 1); "
+                                               "the threads suite compares 1 thread with this many (default 2)")
 
     args = parser.parse_args(argv)
     try:
@@ -131,10 +134,16 @@ def _run(args) -> int:
         print(explain_node(col, res, args.node))
         return 0
     if args.command == "bench":
-        from conecull.app.bench import run_ccd_bench, run_contour_bench, run_dcd_bench, run_trace_bench
+        from conecull.app.bench import (run_ccd_bench, run_contour_bench, run_dcd_bench, run_threads_bench,
+                                        run_trace_bench)
 
-        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench}[args.suite]
-        return run(args.triangles, args.frames, args.repeats, args.out)
+        run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench,
+               "threads": run_threads_bench}[args.suite]
+        if args.threads is not None and args.threads < 1:
+            raise ValueError(f"--threads: expected a positive count, got {args.threads}")
+        # trace and contour always measure one thread (a traced query runs on one)
+        extra = {} if args.threads is None or args.suite in ("trace", "contour") else {"threads": args.threads}
+        return run(args.triangles, args.frames, args.repeats, args.out, **extra)
     return 2
 
 

@@ -1,6 +1,7 @@
 // SelfCollider bindings (core/include/conecull/collider.hpp).
 #include <memory>
 #include <mutex>
+#include <string>
 
 #include "conecull/collider.hpp"
 #include "conecull/contour/contour_test.hpp"
@@ -10,11 +11,14 @@ namespace conecull::bind {
 
 namespace {
 
+constexpr int kMaxThreads = 1024;
+
 // One query at a time per collider (queries refit shared state); the GIL is released inside.
 struct PyCollider {
     SelfCollider collider;
     std::mutex mutex;
-    PyCollider(std::shared_ptr<const Topology> t, Method m, int32_t leaf) : collider(std::move(t), m, leaf) {}
+    PyCollider(std::shared_ptr<const Topology> t, Method m, int32_t leaf, int threads)
+        : collider(std::move(t), m, leaf, threads) {}
 };
 
 const char* reason_name(int r) {
@@ -92,6 +96,14 @@ py::array_t<int64_t> pair_rows(const std::vector<std::pair<int32_t, int32_t>>& v
     return a;
 }
 
+// 0: the default (all cores for a collider, the collider's for a query); the cap only stops
+// a typo from starting thousands of threads.
+void check_threads(int threads) {
+    if (threads < 0 || threads > kMaxThreads)
+        throw py::value_error("threads: expected 0 (default) or a count in [1, " + std::to_string(kMaxThreads) + "], got " +
+                              std::to_string(threads));
+}
+
 Arithmetic parse_arithmetic(const std::string& s) {
     if (s == "float") return Arithmetic::kFloat;
     if (s == "conservative") return Arithmetic::kConservative;
@@ -103,22 +115,25 @@ Arithmetic parse_arithmetic(const std::string& s) {
 
 void bind_collider(py::module_& m) {
     py::class_<PyCollider, std::shared_ptr<PyCollider>>(m, "SelfCollider", py::module_local())
-        .def(py::init([](std::shared_ptr<Topology> topo, const std::string& method, int leaf_size) {
+        .def(py::init([](std::shared_ptr<Topology> topo, const std::string& method, int leaf_size, int threads) {
                  if (!topo) throw py::value_error("topology: must not be None");
                  if (leaf_size < 1 || leaf_size > 64) throw py::value_error("leaf_size: must be in [1, 64]");
-                 return std::make_shared<PyCollider>(topo, parse_method(method), leaf_size);
+                 check_threads(threads);
+                 return std::make_shared<PyCollider>(topo, parse_method(method), leaf_size, threads);
              }),
-             py::arg("topology"), py::arg("method"), py::arg("leaf_size"))
+             py::arg("topology"), py::arg("method"), py::arg("leaf_size"), py::arg("threads") = 0,
+             "threads: the queries' default thread count, 0 for all cores.")
         .def(
             "dcd",
-            [](PyCollider& self, const F64Array& V, bool trace) {
+            [](PyCollider& self, const F64Array& V, bool trace, int threads) {
                 require_shape(V, "V", self.collider.topology().n_vertices, 3);
+                check_threads(threads);
                 DcdResult res;
                 RecordingTracer tracer;
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr);
+                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads);
                 }
                 py::array_t<int64_t> pairs({static_cast<py::ssize_t>(res.pairs.size()), py::ssize_t(2)});
                 int64_t* p = pairs.mutable_data();
@@ -129,13 +144,15 @@ void bind_collider(py::module_& m) {
                 py::object tr = trace ? py::object(trace_dict(tracer)) : py::object(py::none());
                 return py::make_tuple(pairs, stats_dict(res.stats, self.collider.method()), tr);
             },
-            py::arg("V"), py::arg("trace") = false,
-            "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).")
+            py::arg("V"), py::arg("trace") = false, py::arg("threads") = 0,
+            "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).\n"
+            "threads: 0 for the collider's default; the results do not depend on it.")
         .def(
             "ccd",
             [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace,
-               bool toi) {
+               bool toi, int threads) {
                 const int32_t n = self.collider.topology().n_vertices;
+                check_threads(threads);
                 require_shape(V0, "V0", n, 3);
                 require_shape(V1, "V1", n, 3);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
@@ -144,7 +161,7 @@ void bind_collider(py::module_& m) {
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi);
+                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads);
                 }
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
@@ -171,9 +188,11 @@ void bind_collider(py::module_& m) {
                 return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st, tr, t);
             },
             py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false, py::arg("toi") = false,
+            py::arg("threads") = 0,
             "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
+        .def_property_readonly("threads", [](PyCollider& self) { return self.collider.threads(); })
         .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })
         .def("cone_arrays", [](PyCollider& self) { return cone_arrays(self.collider.cones()); })
         .def("contour_arrays", [](PyCollider& self) { return contour_arrays(self.collider.contours()); });

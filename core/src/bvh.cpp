@@ -1,6 +1,7 @@
 #include "conecull/bvh/bvh.hpp"
 
 #include "conecull/ccd/ccd_cone.hpp"
+#include "conecull/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -250,19 +251,54 @@ namespace {
 
 // Bottom-up refit shared by boxes and cones, DCD and CCD: a leaf combines the values of its
 // triangles (in leaf order), an inner node those of its two children. Children follow their
-// parent in pre-order, so one reverse sweep suffices.
+// parent in pre-order, so one reverse sweep suffices. With threads, the subtrees below a cut
+// near the root (each a contiguous range of the pre-order) are swept in parallel, then the few
+// nodes above the cut: every node gets the same value from the same children, so the result
+// does not depend on the thread count.
 template <class T, class TriangleValue, class Combine>
-void refit(const Bvh& bvh, std::vector<T>& out, TriangleValue triangle_value, Combine combine) {
+void refit(const Bvh& bvh, std::vector<T>& out, TriangleValue triangle_value, Combine combine, int threads) {
     out.resize(bvh.nodes.size());
-    for (int32_t i = bvh.size() - 1; i >= 0; --i) {
-        const BvhNode& n = bvh.nodes[i];
-        if (n.is_leaf()) {
-            T v = triangle_value(bvh.order[n.begin]);
-            for (int32_t k = n.begin + 1; k < n.end; ++k) v = combine(v, triangle_value(bvh.order[k]));
-            out[i] = v;
-        } else {
-            out[i] = combine(out[Bvh::left(i)], out[n.right]);
+    auto sweep = [&](int32_t begin, int32_t end) {  // the nodes [begin, end), children first
+        for (int32_t i = end - 1; i >= begin; --i) {
+            const BvhNode& n = bvh.nodes[i];
+            if (n.is_leaf()) {
+                T v = triangle_value(bvh.order[n.begin]);
+                for (int32_t k = n.begin + 1; k < n.end; ++k) v = combine(v, triangle_value(bvh.order[k]));
+                out[i] = v;
+            } else {
+                out[i] = combine(out[Bvh::left(i)], out[n.right]);
+            }
         }
+    };
+    if (threads <= 1 || bvh.size() < 4096) {
+        sweep(0, bvh.size());
+        return;
+    }
+    // The cut: split the largest subtree (node, end of its range) until there are enough.
+    std::vector<std::pair<int32_t, int32_t>> cut{{0, bvh.size()}}, next;
+    std::vector<int32_t> above;  // in pre-order
+    while (cut.size() < 16 * static_cast<size_t>(threads)) {
+        next.clear();
+        bool split = false;
+        for (const auto& [i, end] : cut) {
+            const BvhNode& n = bvh.nodes[i];
+            if (n.is_leaf() || end - i < 64) {
+                next.push_back({i, end});
+                continue;
+            }
+            above.push_back(i);
+            next.push_back({Bvh::left(i), n.right});
+            next.push_back({n.right, end});
+            split = true;
+        }
+        cut.swap(next);
+        if (!split) break;
+    }
+    parallel_chunks(static_cast<int64_t>(cut.size()), threads, [&](int64_t k, int) { sweep(cut[k].first, cut[k].second); });
+    std::sort(above.begin(), above.end());
+    for (auto it = above.rbegin(); it != above.rend(); ++it) {
+        const int32_t i = *it;
+        out[i] = combine(out[Bvh::left(i)], out[bvh.nodes[i].right]);
     }
 }
 
@@ -274,32 +310,33 @@ const int32_t* face(const Topology& topo, int32_t f) { return &topo.faces[3 * st
 
 }  // namespace
 
-void refit_boxes(Bvh& bvh, const Topology& topo, const double* V) {
+void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads) {
     std::vector<Aabb> boxes;
-    refit(bvh, boxes, [&](int32_t f) { return triangle_box(topo, V, f); }, unite);
+    refit(bvh, boxes, [&](int32_t f) { return triangle_box(topo, V, f); }, unite, threads);
     store_boxes(bvh, boxes);
 }
 
-void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones) {
+void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones, int threads) {
     refit(bvh, cones, [&](int32_t f) {
         const int32_t* t = face(topo, f);
         return triangle_cone(load(V, t[0]), load(V, t[1]), load(V, t[2]));
-    }, merge);
+    }, merge, threads);
 }
 
-void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1) {
+void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads) {
     std::vector<Aabb> boxes;
-    refit(bvh, boxes, [&](int32_t f) { return unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f)); }, unite);
+    refit(bvh, boxes, [&](int32_t f) { return unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f)); }, unite,
+          threads);
     store_boxes(bvh, boxes);
 }
 
 void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
-                     std::vector<NormalCone>& cones) {
+                     std::vector<NormalCone>& cones, int threads) {
     refit(bvh, cones, [&](int32_t f) {
         const int32_t* t = face(topo, f);
         return triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]), load(V1, t[1]),
                                  load(V1, t[2]));
-    }, merge);
+    }, merge, threads);
 }
 
 }  // namespace conecull

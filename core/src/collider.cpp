@@ -6,6 +6,7 @@
 #include <type_traits>
 
 #include "conecull/elementary/triangle_triangle.hpp"
+#include "conecull/parallel.hpp"
 #include "conecull/trace/null_tracer.hpp"
 
 namespace conecull {
@@ -56,8 +57,8 @@ const char* method_name(Method m) {
     return "unknown";
 }
 
-SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size)
-    : topo_(std::move(topo)), method_(method), leaf_size_(leaf_size) {
+SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size, int threads)
+    : topo_(std::move(topo)), method_(method), leaf_size_(leaf_size), threads_(threads) {
     bvh_.leaf_size = leaf_size;  // reported by the debug views even before the first query
 }
 
@@ -74,6 +75,22 @@ template <class Tracer, class Motion>
 void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) {
     BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
+    if constexpr (!kTraceHooks<Tracer>) {
+        // Several threads: the same candidates in the same order (parallel_self_collide.hpp).
+        auto par = [&](auto make) { parallel_self_collide(bvh_, query_threads_, make, st, candidates_, parallel_); };
+        if (query_threads_ > 1 && method_ == Method::kAabb) {
+            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
+                return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+            });
+            return;
+        }
+        if (query_threads_ > 1 && method_ == Method::kNc) {
+            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
+                return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+            });
+            return;
+        }
+    }
     switch (method_) {
         case Method::kAabb:
             SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
@@ -118,28 +135,36 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     st.seconds_traversal = seconds_since(t0);
 
     t0 = Clock::now();
+    // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
     const int32_t* F = topo_->faces.data();
-    for (const TrianglePair& c : candidates_) {
-        const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
-        const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
-        const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
-        const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
-        const bool hit = triangles_collide(fp, P, fq, Q);
-        if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
-        if (hit) res.pairs.push_back(c);
-    }
+    const Chunks ch(static_cast<int64_t>(candidates_.size()), query_threads_, 512);
+    std::vector<std::vector<TrianglePair>> hits(ch.count);
+    parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
+        for (int64_t i = ch.begin(k); i < ch.end(k); ++i) {
+            const TrianglePair& c = candidates_[i];
+            const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
+            const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
+            const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
+            const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
+            const bool hit = triangles_collide(fp, P, fq, Q);
+            if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
+            if (hit) hits[k].push_back(c);
+        }
+    });
+    concat_in_order(hits, hits.size(), 1, res.pairs);
     st.elementary_tests = static_cast<int64_t>(candidates_.size());
     std::sort(res.pairs.begin(), res.pairs.end());
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
 }
 
-DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer) {
+DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int threads) {
     DcdResult res;
+    query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
     if (!built_) build(V);
-    else refit_boxes(bvh_, *topo_, V);
-    if (uses_cones(method_)) refit_cones(bvh_, *topo_, V, cones_);
+    else refit_boxes(bvh_, *topo_, V, query_threads_);
+    if (uses_cones(method_)) refit_cones(bvh_, *topo_, V, cones_, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
     return res;
@@ -174,32 +199,38 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 }  // namespace
 
 CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer,
-                            bool want_toi) {
+                            bool want_toi, int threads) {
     // [SPO10]'s star-contour test is a DCD test; Sec. 3.2: "It is not clear whether the linear
     // time algorithm for contour test in [SPO10] extends to CCD". The CCD baseline is "cbc".
     if (method_ == Method::kSct)
         throw std::invalid_argument("method: 'sct' is a discrete (DCD) method [SPO10]; for CCD use 'nc', "
                                     "'nc+front' or the CCD baseline 'cbc'");
     CcdResult res;
+    query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
     if (!built_) build(V0);
-    refit_boxes_ccd(bvh_, *topo_, V0, V1);
-    if (uses_cones(method_)) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_);
+    refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
+    if (uses_cones(method_)) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
     if (want_toi) {
         const int32_t* F = topo_->faces.data();
         const int32_t* E = topo_->edges.data();
-        for (const auto& [v, f] : res.vf) {
-            const int32_t* t = F + 3 * static_cast<size_t>(f);
-            res.toi.push_back(vertex_face_toi_lower_bound(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]),
-                                                          load(V1, v), load(V1, t[0]), load(V1, t[1]), load(V1, t[2])));
-        }
-        for (const auto& [ea, eb] : res.ee) {
-            const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
-            res.toi.push_back(edge_edge_toi_lower_bound(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a),
-                                                        load(V1, b), load(V1, c), load(V1, d)));
-        }
+        const int64_t n_vf = static_cast<int64_t>(res.vf.size());
+        res.toi.resize(res.vf.size() + res.ee.size());
+        parallel_for(static_cast<int64_t>(res.toi.size()), query_threads_, 16, [&](int64_t i) {
+            if (i < n_vf) {
+                const auto [v, f] = res.vf[i];
+                const int32_t* t = F + 3 * static_cast<size_t>(f);
+                res.toi[i] = vertex_face_toi_lower_bound(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]),
+                                                         load(V1, v), load(V1, t[0]), load(V1, t[1]), load(V1, t[2]));
+            } else {
+                const auto [ea, eb] = res.ee[i - n_vf];
+                const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
+                res.toi[i] = edge_edge_toi_lower_bound(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a),
+                                                       load(V1, b), load(V1, c), load(V1, d));
+            }
+        });
     }
     return res;
 }
@@ -228,12 +259,14 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             }
         return b;
     };
+    const int threads = query_threads_;
     vertex_boxes_.resize(topo_->n_vertices);
-    for (int32_t v = 0; v < topo_->n_vertices; ++v) vertex_boxes_[v] = swept({v});
+    parallel_for(topo_->n_vertices, threads, 4096, [&](int64_t v) { vertex_boxes_[v] = swept({static_cast<int32_t>(v)}); });
     edge_boxes_.resize(topo_->n_edges());
-    for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]});
+    parallel_for(topo_->n_edges(), threads, 4096, [&](int64_t e) { edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]}); });
     face_boxes_.resize(topo_->n_faces());
-    for (int32_t f = 0; f < topo_->n_faces(); ++f) face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]});
+    parallel_for(topo_->n_faces(), threads, 4096,
+                 [&](int64_t f) { face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]}); });
     // Each vertex and each edge is owned by one of its faces; a VF pair (v, f) is produced only
     // by the candidate pair (owner(v), f), an EE pair only by (owner(ea), owner(eb)). Every pair
     // is then produced at most once with no sorting, and none is lost: if v touches f, the
@@ -246,11 +279,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         edge_owner_.resize(topo_->n_edges());
         for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_owner_[e] = topo_->edge_face_ids[topo_->edge_face_offsets[e]];
     }
-    std::vector<uint64_t>& vf_keys = vf_keys_;
-    std::vector<uint64_t>& ee_keys = ee_keys_;
-    vf_keys.clear();
-    ee_keys.clear();
-    for (const TrianglePair& c : candidates_) {
+    auto pairs_of = [&](const TrianglePair& c, std::vector<uint64_t>& vf_keys, std::vector<uint64_t>& ee_keys) {
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
         auto in = [](const int32_t* f, int32_t v) { return f[0] == v || f[1] == v || f[2] == v; };
@@ -273,45 +302,87 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                 ee_keys.push_back(static_cast<uint64_t>(std::min(ea, eb)) << 32 | static_cast<uint32_t>(std::max(ea, eb)));
             }
         }
-    }
+    };
+    // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
+    // the serial order.
+    const Chunks cand(static_cast<int64_t>(candidates_.size()), threads, 1024);
+    std::vector<std::vector<uint64_t>> vf_parts(cand.count), ee_parts(cand.count);
+    parallel_chunks(cand.count, threads, [&](int64_t k, int) {
+        for (int64_t i = cand.begin(k); i < cand.end(k); ++i) pairs_of(candidates_[i], vf_parts[k], ee_parts[k]);
+    });
+    std::vector<uint64_t>& vf_keys = vf_keys_;
+    std::vector<uint64_t>& ee_keys = ee_keys_;
+    concat_in_order(vf_parts, vf_parts.size(), threads, vf_keys);
+    concat_in_order(ee_parts, ee_parts.size(), threads, ee_keys);
     st.vf_candidates = static_cast<int64_t>(vf_keys.size());
     st.ee_candidates = static_cast<int64_t>(ee_keys.size());
     st.seconds_pairs = seconds_since(t0);
 
     t0 = Clock::now();
-    exact_path_counts() = {};
+    // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
+    // counters (the exact-path counters are per thread: reset and read around each chunk).
+    struct ChunkOut {
+        std::vector<std::pair<int32_t, int32_t>> vf, ee;
+        int64_t npf_culled = 0, vf_tests = 0, ee_tests = 0;
+        ExactPathCounts exact;
+    };
     const int32_t* E = topo_->edges.data();
-    for (const uint64_t key : vf_keys) {
+    auto test_vf = [&](uint64_t key, ChunkOut& out) {
         const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t* t = F + 3 * static_cast<size_t>(f);
         const DetRow e0[3] = {{load(V0, t[1]), load(V0, t[0])}, {load(V0, t[2]), load(V0, t[0])}, {load(V0, v), load(V0, t[0])}};
         const DetRow e1[3] = {{load(V1, t[1]), load(V1, t[0])}, {load(V1, t[2]), load(V1, t[0])}, {load(V1, v), load(V1, t[0])}};
         if (never_coplanar(e0, e1)) {
-            ++st.npf_culled;
-            continue;
+            ++out.npf_culled;
+            return;
         }
-        ++st.vf_tests;
+        ++out.vf_tests;
         const bool hit = vertex_face_ccd(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v),
                                          load(V1, t[0]), load(V1, t[1]), load(V1, t[2]), arithmetic);
         if constexpr (kTraceHooks<Tracer>) tracer.on_vf(v, f, hit);
-        if (hit) res.vf.emplace_back(v, f);
-    }
-    for (const uint64_t key : ee_keys) {
+        if (hit) out.vf.emplace_back(v, f);
+    };
+    auto test_ee = [&](uint64_t key, ChunkOut& out) {
         const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
         const DetRow e0[3] = {{load(V0, b), load(V0, a)}, {load(V0, d), load(V0, c)}, {load(V0, c), load(V0, a)}};
         const DetRow e1[3] = {{load(V1, b), load(V1, a)}, {load(V1, d), load(V1, c)}, {load(V1, c), load(V1, a)}};
         if (never_coplanar(e0, e1)) {
-            ++st.npf_culled;
-            continue;
+            ++out.npf_culled;
+            return;
         }
-        ++st.ee_tests;
+        ++out.ee_tests;
         const bool hit = edge_edge_ccd(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b),
                                        load(V1, c), load(V1, d), arithmetic);
         if constexpr (kTraceHooks<Tracer>) tracer.on_ee(ea, eb, hit);
-        if (hit) res.ee.emplace_back(ea, eb);
+        if (hit) out.ee.emplace_back(ea, eb);
+    };
+    const int64_t n_vf = static_cast<int64_t>(vf_keys.size());
+    const Chunks keys(n_vf + static_cast<int64_t>(ee_keys.size()), threads, 64);
+    std::vector<ChunkOut> outs(keys.count);
+    parallel_chunks(keys.count, threads, [&](int64_t k, int) {
+        ChunkOut& out = outs[k];
+        exact_path_counts() = {};
+        for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
+            if (i < n_vf) test_vf(vf_keys[i], out);
+            else test_ee(ee_keys[i - n_vf], out);
+        }
+        out.exact = exact_path_counts();
+    });
+    st.exact_paths = {};
+    for (const ChunkOut& out : outs) {
+        res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());
+        res.ee.insert(res.ee.end(), out.ee.begin(), out.ee.end());
+        st.npf_culled += out.npf_culled;
+        st.vf_tests += out.vf_tests;
+        st.ee_tests += out.ee_tests;
+        ExactPathCounts& e = st.exact_paths;
+        e.filtered += out.exact.filtered;
+        e.static_contact += out.exact.static_contact;
+        e.proven_contact += out.exact.proven_contact;
+        e.interval_filtered += out.exact.interval_filtered;
+        e.exact_engine += out.exact.exact_engine;
     }
-    st.exact_paths = exact_path_counts();
     std::sort(res.vf.begin(), res.vf.end());
     std::sort(res.ee.begin(), res.ee.end());
     st.elementary_tests = st.vf_tests + st.ee_tests;

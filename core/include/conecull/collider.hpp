@@ -13,6 +13,7 @@
 #include "conecull/contour/contour.hpp"
 #include "conecull/mesh/topology.hpp"
 #include "conecull/trace/recording_tracer.hpp"
+#include "conecull/traversal/parallel_self_collide.hpp"
 #include "conecull/traversal/self_collide.hpp"
 #include "conecull/traversal/stats.hpp"
 
@@ -56,18 +57,22 @@ struct CcdResult {
 
 class SelfCollider {
    public:
-    SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size);
+    // threads: the queries' default thread count, <= 0 for all cores.
+    SelfCollider(std::shared_ptr<const Topology> topo, Method method, int32_t leaf_size, int threads = 0);
 
     // V: (n_vertices, 3) float64, row-major, validated by the caller. The BVH and contours are
     // built from the first pose given. With a tracer, the query's events are appended to it.
-    DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr);
+    // threads: this query's thread count, <= 0 for the collider's default. Results and counters
+    // are the same for any thread count; a traced query runs on one thread (events in order).
+    DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
-                  bool want_toi = false);
+                  bool want_toi = false, int threads = 0);
 
     bool built() const { return built_; }
     Method method() const { return method_; }
+    int threads() const { return resolve_threads(threads_); }
     const Topology& topology() const { return *topo_; }
     const Bvh& bvh() const { return bvh_; }
     const Contours& contours() const { return contours_; }
@@ -85,6 +90,9 @@ class SelfCollider {
     std::shared_ptr<const Topology> topo_;
     Method method_;
     int32_t leaf_size_;
+    int threads_;            // default, <= 0: all cores
+    int query_threads_ = 1;  // the current query's, resolved
+    ParallelTraversalScratch parallel_;
     bool built_ = false;
     Bvh bvh_;
     Contours contours_;

@@ -186,9 +186,12 @@ class SelfCollider:
     only; a CCD query raises ValueError), and "cbc", the O(n^2) edge-pair contour test of Tang
     et al. 2009 (CCD; on a DCD query the same test at the one pose).
     leaf_size: at most this many triangles per BVH leaf (2 measured fastest; see the benchmark).
+    threads: threads per query (None: all cores); dcd and ccd can override it per query. The
+    results, their order and the counters of stats are the same for any thread count (only the
+    seconds differ); a traced query runs on one thread.
     """
 
-    def __init__(self, mesh: Mesh, method: str = "nc", leaf_size: int = 2):
+    def __init__(self, mesh: Mesh, method: str = "nc", leaf_size: int = 2, threads: int | None = None):
         if not isinstance(mesh, Mesh):
             raise ValueError(f"mesh: expected a conecull.Mesh, got {type(mesh).__name__}")
         if not isinstance(method, str) or method not in METHODS:
@@ -198,32 +201,42 @@ class SelfCollider:
         self.mesh = mesh
         self.method = method
         self.leaf_size = int(leaf_size)
-        self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size)
+        self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size, _as_threads(threads))
 
-    def dcd(self, V, trace: bool = False) -> DcdResult:
-        """Discrete self-collision query at positions V (n, 3); trace=True also records its events."""
+    @property
+    def threads(self) -> int:
+        """The queries' default thread count (all cores resolved to a number)."""
+        return self._core.threads
+
+    def dcd(self, V, trace: bool = False, threads: int | None = None) -> DcdResult:
+        """Discrete self-collision query at positions V (n, 3); trace=True also records its events.
+        threads: this query's thread count (None: the collider's)."""
         if not isinstance(trace, (bool, np.bool_)):
             raise ValueError(f"trace: expected True or False, got {trace!r}")
+        t = _as_threads(threads)
         a = _as_positions(V, self.mesh.n_vertices)
-        pairs, stats, raw = self._core.dcd(a, bool(trace))
+        pairs, stats, raw = self._core.dcd(a, bool(trace), t)
         return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
 
-    def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False) -> CcdResult:
+    def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False,
+            threads: int | None = None) -> CcdResult:
         """Continuous query: every vertex moves linearly from V0 to V1 over t in [0, 1].
 
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
+        threads: this query's thread count (None: the collider's).
         """
         if self.method not in CCD_METHODS:
             raise ValueError(f"method: {self.method!r} is a discrete (DCD) method; CCD queries need one of {CCD_METHODS}")
         _check_arithmetic(arithmetic)
+        t = _as_threads(threads)
         for name, flag in (("trace", trace), ("toi", toi)):
             if not isinstance(flag, (bool, np.bool_)):
                 raise ValueError(f"{name}: expected True or False, got {flag!r}")
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
-        vf, ee, stats, raw, t = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi))
-        return CcdResult(vf=vf, ee=ee, stats=stats, toi=t, trace=Trace(raw) if raw is not None else None)
+        vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t)
+        return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=Trace(raw) if raw is not None else None)
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:
@@ -234,6 +247,19 @@ class SelfCollider:
 
     def contour_arrays(self) -> dict:
         return self._core.contour_arrays()
+
+
+_MAX_THREADS = 1024  # a sanity cap (a typo should not start thousands of threads)
+
+
+def _as_threads(threads) -> int:
+    """None -> 0 (the default: all cores for a collider, the collider's for a query)."""
+    if threads is None:
+        return 0
+    if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer)) \
+            or not 1 <= threads <= _MAX_THREADS:
+        raise ValueError(f"threads: expected None or an integer in [1, {_MAX_THREADS}], got {threads!r}")
+    return int(threads)
 
 
 def _as_point(x, name: str) -> np.ndarray:

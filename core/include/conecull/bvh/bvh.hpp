@@ -47,17 +47,19 @@ struct Bvh {
 // by a median split of their centroids.
 Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size);
 
-// Refit boxes from positions V (n, 3); O(nodes).
-void refit_boxes(Bvh& bvh, const Topology& topo, const double* V);
+// Refit boxes from positions V (n, 3); O(nodes). The refits give the same values for any
+// number of threads.
+void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads = 1);
 
 // Normal cones for every node from positions V: leaves merge their triangles' cones, inner
 // nodes their children's.
-void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones);
+void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
+                 int threads = 1);
 
 // CCD: swept boxes (the box of both poses holds every linear motion between them) and cones
 // holding every triangle's normal for all t in [0, 1].
-void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1);
+void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads = 1);
 void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
-                     std::vector<NormalCone>& cones);
+                     std::vector<NormalCone>& cones, int threads = 1);
 
 }  // namespace conecull

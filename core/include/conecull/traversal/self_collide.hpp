@@ -26,6 +26,11 @@ namespace conecull {
 
 using TrianglePair = std::pair<int32_t, int32_t>;
 
+// A task of the parallel traversal: SelfCollide(a) if b < 0, else Collide(a, b).
+struct BvttTask {
+    int32_t a, b;
+};
+
 // The motion a query covers and its contour test, as a policy of the traversal (chosen at
 // compile time per method: no virtual call in the loop): one pose (DCD) or a linear step from V0
 // to V1 (CCD). Only the contour test depends on it; boxes and cones were refit beforehand.
@@ -97,6 +102,50 @@ class SelfCollideTraversal {
             stats_.front_entries = kept;
             stats_.front_bytes = kept * static_cast<int64_t>(sizeof(FrontEntry));
         }
+    }
+
+    // Parallel traversal (parallel_self_collide.hpp), methods without a front: the top of the
+    // BVTT becomes an ordered list of independent tasks, SelfCollide(a) (b < 0) or Collide(a, b).
+    // expand does a task's first step (the counters and tests SelfCollide / Collide would do
+    // there) and appends its subtasks in the order they would run: concatenated in that order,
+    // their candidates are the task's. Tasks at the leaves are kept whole (false: nothing done).
+    bool expand(BvttTask t, std::vector<BvttTask>& out) {
+        static_assert(!kTrackFront, "front methods traverse serially");
+        if (t.b < 0) {
+            const BvhNode& n = bvh_[t.a];
+            if (n.end - n.begin < 2) return true;
+            if (n.is_leaf()) {
+                out.push_back(t);
+                return false;
+            }
+            ++stats_.self_tests;
+            if constexpr (kUseCones) {
+                if (is_self_collision_free(t.a)) return true;
+            }
+            const int32_t l = Bvh::left(t.a), r = n.right;
+            out.insert(out.end(), {{l, -1}, {r, -1}, {l, r}});
+            return true;
+        }
+        const BvhNode& na = bvh_[t.a];
+        const BvhNode& nb = bvh_[t.b];
+        if (na.is_leaf() && nb.is_leaf()) {
+            out.push_back(t);
+            return false;
+        }
+        ++stats_.bv_tests;
+        const bool overlap = na.box.overlaps(nb.box);
+        if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(t.a, t.b, overlap);
+        if (!overlap) return true;
+        if (nb.is_leaf() || (!na.is_leaf() && na.end - na.begin >= nb.end - nb.begin)) {  // as descend
+            out.insert(out.end(), {{Bvh::left(t.a), t.b}, {na.right, t.b}});
+        } else {
+            out.insert(out.end(), {{t.a, Bvh::left(t.b)}, {t.a, nb.right}});
+        }
+        return true;
+    }
+    void run_task(BvttTask t) {
+        if (t.b < 0) self_collide(t.a);
+        else collide<false>(t.a, t.b);
     }
 
    private:

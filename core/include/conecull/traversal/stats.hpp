@@ -26,6 +26,22 @@ struct DcdStats {
     int64_t colliding_pairs = 0;
     double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;
     double seconds_contour = 0;      // inside the contour tests (steady clock around each call; part of traversal)
+
+    // Sums the traversal counters of the parallel traversal's workers (integers: any order).
+    void add_traversal_counters(const DcdStats& s) {
+        bv_tests += s.bv_tests;
+        self_tests += s.self_tests;
+        cone_tests += s.cone_tests;
+        cone_passed += s.cone_passed;
+        contour_ineligible += s.contour_ineligible;
+        contour_tests += s.contour_tests;
+        contour_passed += s.contour_passed;
+        contour_failed += s.contour_failed;
+        for (size_t r = 0; r < contour_reasons.size(); ++r) contour_reasons[r] += s.contour_reasons[r];
+        contour_edges += s.contour_edges;
+        front_added += s.front_added;
+        seconds_contour += s.seconds_contour;  // time: summed over the threads
+    }
 };
 
 }  // namespace conecull

@@ -1,0 +1,168 @@
+// A deterministic parallel-for on std::thread (no OpenMP, no dependency).
+//
+// The work is cut into chunks by the caller, independently of the timing; workers take chunks
+// in turn from an atomic counter (load balance), and every chunk writes only its own output
+// slot, which the caller then concatenates in chunk order. Results therefore never depend on
+// which thread ran which chunk, nor on how many threads there were.
+//
+// The helpers are a process-wide pool, started on first use. A region never waits for a helper
+// that has not started on it: the caller works through the chunks too, then closes the region
+// and waits only for the helpers that joined. On a busy machine a helper that is not scheduled
+// in time costs nothing (the caller does its share), and a forked child, whose pool threads are
+// gone, simply runs serially.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+namespace conecull {
+
+// threads <= 0: all cores.
+inline int resolve_threads(int threads) {
+    if (threads > 0) return threads;
+    const unsigned hw = std::thread::hardware_concurrency();
+    return hw > 0 ? static_cast<int>(hw) : 1;
+}
+
+class ThreadPool {
+   public:
+    static ThreadPool& instance() {
+        static ThreadPool* pool = new ThreadPool;  // never destroyed: its threads are detached
+        return *pool;
+    }
+
+    // work(worker) on the caller (worker 0) and on up to n_workers - 1 helpers (workers 1, ...);
+    // returns when the caller's call and every helper's call that started have returned. One
+    // region at a time: a caller finding the pool busy (another query on another thread) gets
+    // no helpers.
+    template <class Work>
+    void run(int n_workers, const Work& work) {
+        std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+        if (n_workers <= 1 || !busy.owns_lock()) {
+            work(0);
+            return;
+        }
+        grow(n_workers - 1);
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            fn_ = [](const void* ctx, int w) { (*static_cast<const Work*>(ctx))(w); };
+            ctx_ = &work;
+            max_workers_ = n_workers;
+            next_worker_ = 1;
+            open_ = true;
+            ++region_;
+        }
+        wake_.notify_all();
+        work(0);
+        std::unique_lock<std::mutex> lock(mutex_);
+        open_ = false;  // late helpers stay out
+        done_.wait(lock, [&] { return active_ == 0; });
+    }
+
+   private:
+    void grow(int helpers) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        while (n_threads_ < helpers) {
+            try {
+                std::thread([this] { loop(); }).detach();
+            } catch (const std::system_error&) {
+                return;  // no more threads to be had: fewer helpers
+            }
+            ++n_threads_;
+        }
+    }
+
+    void loop() {
+        uint64_t seen = 0;
+        std::unique_lock<std::mutex> lock(mutex_);
+        for (;;) {
+            wake_.wait(lock, [&] { return open_ && region_ != seen && next_worker_ < max_workers_; });
+            seen = region_;
+            const int w = next_worker_++;
+            ++active_;
+            void (*fn)(const void*, int) = fn_;
+            const void* ctx = ctx_;
+            lock.unlock();
+            fn(ctx, w);
+            lock.lock();
+            if (--active_ == 0) done_.notify_all();
+        }
+    }
+
+    std::mutex busy_;   // held by the caller of the current region
+    std::mutex mutex_;  // guards the fields below
+    std::condition_variable wake_, done_;
+    void (*fn_)(const void*, int) = nullptr;
+    const void* ctx_ = nullptr;
+    int max_workers_ = 0, next_worker_ = 0, active_ = 0, n_threads_ = 0;
+    bool open_ = false;
+    uint64_t region_ = 0;
+};
+
+// Calls body(chunk, worker) once for every chunk in [0, n_chunks), on up to `threads` threads;
+// worker ids are < threads. With one thread (or one chunk) the chunks run in order on the
+// caller. The first exception of any chunk is rethrown here.
+template <class Body>
+void parallel_chunks(int64_t n_chunks, int threads, const Body& body) {
+    const int n_workers = static_cast<int>(std::min<int64_t>(std::max(threads, 1), n_chunks));
+    if (n_workers <= 1) {
+        for (int64_t c = 0; c < n_chunks; ++c) body(c, 0);
+        return;
+    }
+    std::atomic<int64_t> next{0};
+    std::vector<std::exception_ptr> errors(n_workers);
+    ThreadPool::instance().run(n_workers, [&](int w) {
+        try {
+            for (int64_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < n_chunks;) body(c, w);
+        } catch (...) {
+            errors[w] = std::current_exception();
+            next.store(n_chunks);  // the others stop after their current chunk
+        }
+    });
+    for (const std::exception_ptr& e : errors)
+        if (e) std::rethrow_exception(e);
+}
+
+// [0, n) cut into chunks of at least `grain` items (one chunk for one thread), several per
+// thread so that uneven chunks even out.
+struct Chunks {
+    int64_t n = 0, size = 1, count = 0;
+    Chunks(int64_t n_items, int threads, int64_t grain) : n(n_items) {
+        if (n <= 0) return;
+        const int64_t want = threads <= 1 ? 1 : std::min<int64_t>(8 * static_cast<int64_t>(threads), (n + grain - 1) / grain);
+        size = (n + want - 1) / want;
+        count = (n + size - 1) / size;
+    }
+    int64_t begin(int64_t c) const { return c * size; }
+    int64_t end(int64_t c) const { return std::min(n, (c + 1) * size); }
+};
+
+// body(i) for every i in [0, n): for loops whose iteration i writes only slot i.
+template <class Body>
+void parallel_for(int64_t n, int threads, int64_t grain, const Body& body) {
+    const Chunks ch(n, threads, grain);
+    parallel_chunks(ch.count, threads, [&](int64_t c, int) {
+        for (int64_t i = ch.begin(c), e = ch.end(c); i < e; ++i) body(i);
+    });
+}
+
+// out = parts[0] + parts[1] + ... + parts[n_parts - 1], copied in parallel.
+template <class T>
+void concat_in_order(const std::vector<std::vector<T>>& parts, size_t n_parts, int threads, std::vector<T>& out) {
+    std::vector<size_t> offset(n_parts + 1, 0);
+    for (size_t k = 0; k < n_parts; ++k) offset[k + 1] = offset[k] + parts[k].size();
+    out.resize(offset[n_parts]);
+    T* dst = out.data();
+    parallel_chunks(static_cast<int64_t>(n_parts), offset[n_parts] < (1u << 16) ? 1 : threads, [&](int64_t k, int) {
+        std::copy(parts[k].begin(), parts[k].end(), dst + offset[k]);
+    });
+}
+
+}  // namespace conecull

@@ -1,0 +1,125 @@
+"""threads=: DCD gives identical results - the same arrays in the same order and the same
+counters - for 1, 2, 3 and 7 threads, for every method, over generated sequences (fronts
+evolving from query to query) and the mesh cases (with a CCD step from each); it equals the
+oracle; bad values raise ValueError naming `threads`. CCD over sequences: tests/ccd/test_ccd_threads.py."""
+
+import os
+
+import numpy as np
+import pytest
+
+import conecull
+import meshcases
+from conecull.datasets.generated import grid_sheet
+from oracle import brute_force_pairs
+from thread_cases import THREADS, counters, sequences
+
+def dcd_runs(F, frames, method, threads):
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=method, threads=threads)
+    return [col.dcd(V) for V in frames]
+
+
+@pytest.mark.parametrize("scene", ["folding_sheet", "crumpling_sphere"])
+@pytest.mark.parametrize("method", conecull.METHODS)
+def test_dcd_identical_for_any_thread_count(scene, method):
+    F, frames = sequences()[scene]
+    ref = dcd_runs(F, frames, method, 1)
+    assert sum(len(r.pairs) for r in ref) > 0  # the sequence really collides
+    assert ref[-1].stats["elementary_tests"] > 2000  # ... and splits into many chunks
+    for threads in THREADS[1:]:
+        for k, (a, b) in enumerate(zip(ref, dcd_runs(F, frames, method, threads))):
+            assert np.array_equal(a.pairs, b.pairs), f"{scene} {method} threads={threads} frame {k}: pairs differ"
+            assert counters(a.stats) == counters(b.stats), f"{scene} {method} threads={threads} frame {k}: stats"
+
+
+CASES = meshcases.all_cases()
+
+
+def perturbed(V, seed):
+    """A smooth-ish deterministic motion for a CCD step from a mesh case's pose."""
+    rng = np.random.default_rng(seed)
+    scale = float(np.ptp(V, axis=0).max()) if len(V) else 1.0
+    return V + 0.02 * scale * np.sin(3.0 * V @ rng.standard_normal((3, 3)))
+
+
+@pytest.mark.parametrize("name", [c[0] for c in CASES])
+def test_mesh_cases_identical_for_any_thread_count(name):
+    _, F, V = meshcases.case(name)
+    mesh = conecull.Mesh(F, n_vertices=len(V))
+    V1 = perturbed(V, 7)
+    for method in conecull.METHODS:
+        ref_d = conecull.SelfCollider(mesh, method=method, leaf_size=1, threads=1)
+        ccd = method in conecull.CCD_METHODS
+        ref = [ref_d.dcd(V), ref_d.dcd(V1), ref_d.ccd(V, V1) if ccd else None]
+        for threads in THREADS[1:]:
+            col = conecull.SelfCollider(mesh, method=method, leaf_size=1, threads=threads)
+            got = [col.dcd(V), col.dcd(V1), col.ccd(V, V1) if ccd else None]
+            for a, b in zip(ref[:2], got[:2]):
+                assert np.array_equal(a.pairs, b.pairs) and counters(a.stats) == counters(b.stats), (name, method, threads)
+            if not ccd:
+                continue
+            a, b = ref[2], got[2]
+            assert np.array_equal(a.vf, b.vf) and np.array_equal(a.ee, b.ee)
+            assert counters(a.stats) == counters(b.stats), (name, method, threads)
+
+
+@pytest.mark.parametrize("name", ["fold_flat_exact_g10x10_at5", "crumple_medium_s2", "cylinder_twist_strong",
+                                  "components_three_crossing", "offset_1e6_zfold_200"])
+def test_dcd_equals_oracle_on_many_threads(name):
+    _, F, V = meshcases.case(name)
+    expect = frozenset(brute_force_pairs(F, V))
+    mesh = conecull.Mesh(F, n_vertices=len(V))
+    for method in conecull.METHODS:
+        got = conecull.SelfCollider(mesh, method=method, leaf_size=1, threads=7).dcd(V)
+        assert {tuple(p) for p in got.pairs.tolist()} == expect, (name, method)
+
+
+def test_trace_is_the_same_with_threads():
+    """A traced query runs on one thread: its events do not depend on the threads asked for."""
+    F, frames = sequences()["folding_sheet"]
+    mesh = conecull.Mesh(F)
+    a = conecull.SelfCollider(mesh, method="nc", threads=1).dcd(frames[-1], trace=True)
+    b = conecull.SelfCollider(mesh, method="nc", threads=3).dcd(frames[-1], trace=True)
+    assert np.array_equal(a.pairs, b.pairs) and counters(a.stats) == counters(b.stats)
+    for kind, key in (("elementary", "pair"), ("elementary", "result"), ("cone", "node"), ("contour", "node")):
+        assert np.array_equal(getattr(a.trace, kind)[key], getattr(b.trace, kind)[key]), (kind, key)
+    assert len(a.trace.elementary["pair"]) == a.stats["elementary_tests"] > 0
+
+
+def test_threads_default_and_bad_values():
+    F, V = grid_sheet(4, 4)
+    mesh = conecull.Mesh(F)
+    assert conecull.SelfCollider(mesh).threads >= 1
+    assert conecull.SelfCollider(mesh).threads == (os.cpu_count() or 1) or os.cpu_count() is None
+    assert conecull.SelfCollider(mesh, threads=3).threads == 3
+    assert conecull.SelfCollider(mesh, threads=np.int64(2)).threads == 2
+    col = conecull.SelfCollider(mesh)
+    for bad in (0, -1, 1.5, "2", True, 10**6, [2]):
+        with pytest.raises(ValueError, match="threads"):
+            conecull.SelfCollider(mesh, threads=bad)
+        with pytest.raises(ValueError, match="threads"):
+            col.dcd(V, threads=bad)
+        with pytest.raises(ValueError, match="threads"):
+            col.ccd(V, V, threads=bad)
+    with pytest.raises(ValueError, match="threads"):
+        conecull._core.SelfCollider(mesh._topo, "nc", 2, -1)  # the core checks too
+
+
+def test_refit_identical_for_any_thread_count():
+    """The parallel refit (subtrees below a cut in parallel, then the nodes above it) gives the
+    same boxes and cones, bit for bit; the mesh is large enough for the parallel sweep."""
+    F, frames = sequences()["folding_sheet"]
+    mesh = conecull.Mesh(F)
+    assert 2 * mesh.n_faces - 1 >= 4096  # BVH nodes with leaf_size 1: the parallel sweep's threshold
+    ref = None
+    for threads in THREADS:
+        col = conecull.SelfCollider(mesh, method="nc", leaf_size=1, threads=threads)
+        col.dcd(frames[0])
+        col.dcd(frames[-1])
+        dcd = (col.bvh_arrays()["box"], col.cone_arrays())
+        col.ccd(frames[-2], frames[-1])
+        ccd = (col.bvh_arrays()["box"], col.cone_arrays())
+        got = [dcd[0], *dcd[1].values(), ccd[0], *ccd[1].values()]
+        if ref is None:
+            ref = got
+        assert all(np.array_equal(a, b) for a, b in zip(ref, got)), threads
