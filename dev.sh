@@ -58,8 +58,8 @@ case "$cmd" in
         # also builds conecull._core_nohooks, the hook-free variant `bench trace` compares with
         setup -Ccmake.define.CONECULL_NOHOOKS_MODULE=ON
         if [ $# -eq 0 ]; then
-            "$VENV/bin/python" -m conecull bench dcd && "$VENV/bin/python" -m conecull bench trace &&
-                exec "$VENV/bin/python" -m conecull bench ccd
+            for suite in dcd trace contour threads; do "$VENV/bin/python" -m conecull bench $suite || exit 1; done
+            exec "$VENV/bin/python" -m conecull bench ccd
         fi
         exec "$VENV/bin/python" -m conecull bench "$@" ;;
     *) echo "usage: ./dev.sh {demo|test|bench|setup} [args]" >&2; exit 2 ;;
