@@ -10,7 +10,8 @@ import numpy as np
 
 from conecull.datasets import generated
 from conecull.datasets.sim import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices, PlaneCollider,
-                                   SelfContact, SphereCollider, Stretch, Tethers, Wind)
+                                   SelfContact, SphereCollider, StrainLimit, Stretch, Tethers, Wind,
+                                   grid_skip_pairs)
 
 
 def funnel(resolution: int):
@@ -39,22 +40,26 @@ def flowing(resolution: int):
                   SelfContact()], {}
 
 
-def robe_sheet(resolution: int, size: float = 1.6, neck: float = 0.13):
-    """A square sheet with a round neck hole in the middle (unreferenced vertices dropped)."""
+def robe_sheet(resolution: int, size: float = 1.6, neck: float = 0.13, with_map: bool = False):
+    """A square sheet with a round neck hole in the middle (unreferenced vertices dropped); with
+    `with_map`, also the grid index -> vertex id map (-1: dropped)."""
     F, V = generated.grid_sheet(resolution, resolution, width=size, height=size)
     V = V - [size / 2, size / 2, 0.0]
     F = F[np.linalg.norm(V[F].mean(axis=1)[:, :2], axis=1) > neck]
     used = np.unique(F)
     remap = np.full(len(V), -1)
     remap[used] = np.arange(len(used))
-    return remap[F], V[used]
+    return (remap[F], V[used], remap) if with_map else (remap[F], V[used])
 
 
 def falling(resolution: int):
     """A robe-like sheet (a square with a neck hole) thrown down fast over a body proxy (capsules
-    for torso, shoulders and arms, a sphere for the head, a floor), with self-contact (Falling)."""
-    F, V = robe_sheet(resolution)
+    for torso, shoulders and arms, a sphere for the head, a floor), with self-contact (Falling).
+    Strain limiting keeps the fine robe from stretching down to the floor under its weight."""
+    F, V, remap = robe_sheet(resolution, with_map=True)
     V = V + [0.0, 0.0, 1.75]
+    skip = remap[grid_skip_pairs(resolution, resolution)]
+    skip = skip[(skip >= 0).all(axis=1)]
     body = [CapsuleCollider((0, 0, 0.55), (0, 0, 1.3), 0.16),             # torso
             CapsuleCollider((-0.2, 0, 1.38), (0.2, 0, 1.38), 0.07),       # shoulders
             CapsuleCollider((-0.24, 0, 1.36), (-0.3, 0.05, 0.8), 0.05),   # arms
@@ -62,4 +67,5 @@ def falling(resolution: int):
             CapsuleCollider((-0.09, 0, 0.0), (-0.09, 0, 0.6), 0.07),      # legs
             CapsuleCollider((0.09, 0, 0.0), (0.09, 0, 0.6), 0.07),
             SphereCollider((0, 0, 1.58), 0.11)]                           # head
-    return F, V, [Gravity(), Stretch(), Bend(1e-3), *body, PlaneCollider(0.0), SelfContact()], {"velocity": (0, 0, -3.0)}
+    return F, V, [Gravity(), Stretch(), StrainLimit(skip), Bend(1e-3), *body, PlaneCollider(0.0), SelfContact()], \
+        {"velocity": (0, 0, -3.0)}

@@ -99,7 +99,7 @@ SCENES: dict[str, Scene] = {
                          CLOTH + ("wind", "pinned", "tethers", "self-contact")),
         _simulated_scene("falling", "a robe thrown down fast over a body proxy, with self-contact", "Falling",
                          cloth.falling, lambda r: len(cloth.robe_sheet(r)[0]), 295, 45,
-                         CLOTH + ("capsule", "sphere", "plane", "self-contact")),
+                         CLOTH + ("strain-limit", "capsule", "sphere", "plane", "self-contact")),
         Scene("flamenco", "a keyframed skirt with ruffles that lean over and press together", "Flamenco",
               _flamenco, lambda r: 10 * r * r, 70, 60),
         Scene("squishy", "a ball with 96 tentacles dropped and squashed on the ground", "SquishyBall",

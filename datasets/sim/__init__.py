@@ -2,8 +2,9 @@
 only those are ever constructed or computed (`Simulator.calls` counts what ran)."""
 
 from conecull.datasets.sim.effects import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices,
-                                           PlaneCollider, SelfContact, SphereCollider, Stretch, Tethers, Wind)
+                                           PlaneCollider, SelfContact, SphereCollider, StrainLimit, Stretch, Tethers,
+                                           Wind, grid_skip_pairs)
 from conecull.datasets.sim.simulator import Simulator
 
 __all__ = ["Simulator", "Gravity", "PinnedVertices", "Wind", "Stretch", "Bend", "PlaneCollider", "SphereCollider",
-           "SelfContact", "FunnelCollider", "CapsuleCollider", "Tethers"]
+           "SelfContact", "FunnelCollider", "CapsuleCollider", "Tethers", "StrainLimit", "grid_skip_pairs"]

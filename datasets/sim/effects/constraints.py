@@ -98,3 +98,41 @@ def _distance_pass(sim, e, rest, alpha):
     delta = _scatter_add(index, np.concatenate([-w0[:, None] * corr, w1[:, None] * corr]), n)
     count = np.bincount(index, minlength=n)
     sim.p += 1.5 * delta / np.maximum(count, 1)[:, None]  # over-relaxed Jacobi
+
+
+class StrainLimit(Effect):
+    """Inextensibility across scales: vertices k grid steps apart (k = 4, 16, 64 along rows and
+    columns) may not get farther apart than `limit` x their rest distance (unilateral, like
+    tethers, so bending stays free). Jacobi passes over mesh edges carry a pull only a few
+    edges per substep, so a fine cloth hanging from a body stretches like rubber without it."""
+    name = "strain-limit"
+    stages = ("constrain",)
+
+    def __init__(self, pairs, limit=1.05):
+        self.e = np.asarray(pairs, np.int64).reshape(-1, 2)
+        self.limit = limit
+
+    def setup(self, sim):
+        self.max_len = self.limit * np.linalg.norm(sim.x[self.e[:, 1]] - sim.x[self.e[:, 0]], axis=1)
+
+    def constrain(self, sim, dt):
+        p, e0, e1 = sim.p, self.e[:, 0], self.e[:, 1]
+        d = p[e1] - p[e0]
+        length = np.sqrt(np.einsum("ij,ij->i", d, d)) + 1e-12
+        over = length > self.max_len
+        if not over.any():
+            return
+        e0, e1, d, length = e0[over], e1[over], d[over], length[over]
+        w0, w1 = sim.inv_mass[e0], sim.inv_mass[e1]
+        corr = ((length - self.max_len[over]) / (length * np.maximum(w0 + w1, 1e-12)))[:, None] * d
+        index = np.concatenate([e0, e1])
+        delta = _scatter_add(index, np.concatenate([w0[:, None] * corr, -w1[:, None] * corr]), len(p))
+        sim.p += delta / np.maximum(np.bincount(index, minlength=len(p)), 1)[:, None]
+
+
+def grid_skip_pairs(nx: int, ny: int, steps=(4, 16, 64)):
+    """Pairs of grid vertices (row-major, nx per row) `k` apart along rows and columns."""
+    idx = np.arange(nx * ny).reshape(ny, nx)
+    pairs = [np.column_stack([idx[:, :-k].ravel(), idx[:, k:].ravel()]) for k in steps if k < nx]
+    pairs += [np.column_stack([idx[:-k].ravel(), idx[k:].ravel()]) for k in steps if k < ny]
+    return np.concatenate(pairs) if pairs else np.zeros((0, 2), np.int64)
