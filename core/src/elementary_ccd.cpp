@@ -301,6 +301,28 @@ ExactPathCounts& exact_path_counts() {
     return counts;
 }
 
+// The two tests' parameterisations, shared by every mode: F(t, u, v) terms for the inclusion
+// search and Miranda (VF: p - a - u (b - a) - v (c - a); EE: a + u (b - a) - c - v (d - c)), and
+// the coplanarity cubic det[b - a, c - a, p - a] (VF) / det[b - a, d - c, c - a] (EE).
+MovingTerms vertex_face_terms(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
+                              const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    return {p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1})};
+}
+MovingTerms edge_edge_terms(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                            const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    return {a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1})};
+}
+std::array<double, 4> vertex_face_cubic(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0,
+                                        const Vec3& p1, const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    const Vec3 ba0 = b0 - a0, ca0 = c0 - a0, pa0 = p0 - a0;
+    return cubic_of(ba0, (b1 - a1) - ba0, ca0, (c1 - a1) - ca0, pa0, (p1 - a1) - pa0);
+}
+std::array<double, 4> edge_edge_cubic(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0,
+                                      const Vec3& a1, const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    const Vec3 ba0 = b0 - a0, dc0 = d0 - c0, ca0 = c0 - a0;
+    return cubic_of(ba0, (b1 - a1) - ba0, dc0, (d1 - c1) - dc0, ca0, (c1 - a1) - ca0);
+}
+
 // exact_ccd.cpp
 bool vertex_face_ccd_exact(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                            const Vec3& a1, const Vec3& b1, const Vec3& c1);
@@ -310,13 +332,11 @@ bool edge_edge_ccd_exact(const Vec3& a0, const Vec3& b0, const Vec3& c0, const V
 bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1, const Vec3& a1,
                      const Vec3& b1, const Vec3& c1, Arithmetic mode, const CcdOptions& opt) {
     if (mode == Arithmetic::kConservative) {
-        MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
-        m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
+        const MovingTerms m = vertex_face_terms(p0, a0, b0, c0, p1, a1, b1, c1);
         return inclusion_search(m, true, opt);
     }
     if (mode == Arithmetic::kFloat) {
-        const Vec3 ba0 = b0 - a0, ca0 = c0 - a0, pa0 = p0 - a0;
-        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, ca0, (c1 - a1) - ca0, pa0, (p1 - a1) - pa0);
+        const auto cubic = vertex_face_cubic(p0, a0, b0, c0, p1, a1, b1, c1);
         const double size = std::max(1e-300, max_abs({b0 - a0, c0 - a0, p0 - a0, b1 - a1, c1 - a1, p1 - a1}));
         for (double t : candidate_times(cubic))
             if (point_triangle_distance(lerp(p0, p1, t), lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t)) <=
@@ -344,10 +364,8 @@ bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3&
         case TimeAxisVerdict::kUnknown: break;
     }
     {
-        MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
-        m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
-        const Vec3 ba0 = b0 - a0, ca0 = c0 - a0, pa0 = p0 - a0;
-        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, ca0, (c1 - a1) - ca0, pa0, (p1 - a1) - pa0);
+        const MovingTerms m = vertex_face_terms(p0, a0, b0, c0, p1, a1, b1, c1);
+        const auto cubic = vertex_face_cubic(p0, a0, b0, c0, p1, a1, b1, c1);
         for (double t : candidate_times(cubic)) {
             double u, v;
             if (barycentric_estimate(lerp(p0, p1, t), lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), u, v) &&
@@ -362,13 +380,11 @@ bool vertex_face_ccd(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3&
 bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1, const Vec3& b1,
                    const Vec3& c1, const Vec3& d1, Arithmetic mode, const CcdOptions& opt) {
     if (mode == Arithmetic::kConservative) {
-        MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
-        m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
+        const MovingTerms m = edge_edge_terms(a0, b0, c0, d0, a1, b1, c1, d1);
         return inclusion_search(m, false, opt);
     }
     if (mode == Arithmetic::kFloat) {
-        const Vec3 ba0 = b0 - a0, dc0 = d0 - c0, ca0 = c0 - a0;
-        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, dc0, (d1 - c1) - dc0, ca0, (c1 - a1) - ca0);
+        const auto cubic = edge_edge_cubic(a0, b0, c0, d0, a1, b1, c1, d1);
         const double size = std::max(1e-300, max_abs({b0 - a0, d0 - c0, c0 - a0, b1 - a1, d1 - c1, c1 - a1}));
         for (double t : candidate_times(cubic))
             if (segment_segment_distance(lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), lerp(d0, d1, t)) <=
@@ -392,10 +408,8 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
         case TimeAxisVerdict::kUnknown: break;
     }
     {
-        MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
-        m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
-        const Vec3 ba0 = b0 - a0, dc0 = d0 - c0, ca0 = c0 - a0;
-        const auto cubic = cubic_of(ba0, (b1 - a1) - ba0, dc0, (d1 - c1) - dc0, ca0, (c1 - a1) - ca0);
+        const MovingTerms m = edge_edge_terms(a0, b0, c0, d0, a1, b1, c1, d1);
+        const auto cubic = edge_edge_cubic(a0, b0, c0, d0, a1, b1, c1, d1);
         for (double t : candidate_times(cubic)) {
             double u, v;
             if (segment_parameters(lerp(a0, a1, t), lerp(b0, b1, t), lerp(c0, c1, t), lerp(d0, d1, t), u, v) &&
@@ -409,16 +423,14 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
 
 double vertex_face_toi_lower_bound(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                                    const Vec3& a1, const Vec3& b1, const Vec3& c1) {
-    MovingTerms m{p0 - a0, p1 - a1, a0 - b0, a1 - b1, a0 - c0, a1 - c1, 0.0};
-    m.scale = 2.0 * max_abs({p0, a0, b0, c0, p1, a1, b1, c1});
+    const MovingTerms m = vertex_face_terms(p0, a0, b0, c0, p1, a1, b1, c1);
     double t = 1.0;
     return inclusion_search(m, true, CcdOptions{20, 20000}, &t) ? t : 1.0;
 }
 
 double edge_edge_toi_lower_bound(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
                                  const Vec3& b1, const Vec3& c1, const Vec3& d1) {
-    MovingTerms m{a0 - c0, a1 - c1, b0 - a0, b1 - a1, c0 - d0, c1 - d1, 0.0};
-    m.scale = 2.0 * max_abs({a0, b0, c0, d0, a1, b1, c1, d1});
+    const MovingTerms m = edge_edge_terms(a0, b0, c0, d0, a1, b1, c1, d1);
     double t = 1.0;
     return inclusion_search(m, false, CcdOptions{20, 20000}, &t) ? t : 1.0;
 }

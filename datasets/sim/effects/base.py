@@ -15,3 +15,10 @@ class Effect:
 def _scatter_add(index, values, n):
     """sum of values (k, 3) into n rows by index; np.bincount per column is ~10x np.add.at."""
     return np.column_stack([np.bincount(index, weights=values[:, c], minlength=n) for c in range(3)])
+
+
+def _pair_mean(i, j, di, dj, n):
+    """Jacobi averaging of pair constraints: vertex i[k] asks to move by di[k] and j[k] by dj[k];
+    each vertex moves by the mean of what its pairs ask."""
+    index = np.concatenate([i, j])
+    return _scatter_add(index, np.concatenate([di, dj]), n) / np.maximum(np.bincount(index, minlength=n), 1)[:, None]

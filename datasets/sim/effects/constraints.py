@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from conecull.datasets.sim.effects.base import Effect, _scatter_add
+from conecull.datasets.sim.effects.base import Effect, _pair_mean
 
 
 class PinnedVertices(Effect):
@@ -94,10 +94,7 @@ def _distance_pass(sim, e, rest, alpha):
     w0, w1 = sim.inv_mass[e0], sim.inv_mass[e1]
     lam = -(length - rest) / (w0 + w1 + alpha + 1e-12)
     corr = (lam / length)[:, None] * d
-    index = np.concatenate([e0, e1])
-    delta = _scatter_add(index, np.concatenate([-w0[:, None] * corr, w1[:, None] * corr]), n)
-    count = np.bincount(index, minlength=n)
-    sim.p += 1.5 * delta / np.maximum(count, 1)[:, None]  # over-relaxed Jacobi
+    sim.p += 1.5 * _pair_mean(e0, e1, -w0[:, None] * corr, w1[:, None] * corr, n)  # over-relaxed Jacobi
 
 
 class StrainLimit(Effect):
@@ -125,9 +122,7 @@ class StrainLimit(Effect):
         e0, e1, d, length = e0[over], e1[over], d[over], length[over]
         w0, w1 = sim.inv_mass[e0], sim.inv_mass[e1]
         corr = ((length - self.max_len[over]) / (length * np.maximum(w0 + w1, 1e-12)))[:, None] * d
-        index = np.concatenate([e0, e1])
-        delta = _scatter_add(index, np.concatenate([w0[:, None] * corr, -w1[:, None] * corr]), len(p))
-        sim.p += delta / np.maximum(np.bincount(index, minlength=len(p)), 1)[:, None]
+        sim.p += _pair_mean(e0, e1, w0[:, None] * corr, -w1[:, None] * corr, len(p))
 
 
 def grid_skip_pairs(nx: int, ny: int, steps=(4, 16, 64)):

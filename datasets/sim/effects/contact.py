@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from conecull.datasets.sim.effects.base import Effect, _scatter_add
+from conecull.datasets.sim.effects.base import Effect, _pair_mean
 
 
 class SelfContact(Effect):
@@ -49,10 +49,7 @@ class SelfContact(Effect):
             return
         self.pushed += len(i)
         corr = (0.5 * (target - dist) / dist)[:, None] * d
-        index = np.concatenate([i, j])
-        delta = _scatter_add(index, np.concatenate([-corr, corr]), len(sim.p))
-        count = np.bincount(index, minlength=len(sim.p))
-        sim.p += delta / np.maximum(count, 1)[:, None]
+        sim.p += _pair_mean(i, j, -corr, corr, len(sim.p))
 
     def contact(self, sim, dt):
         E = sim.edges
