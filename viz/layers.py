@@ -124,8 +124,24 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     )
 
 
+# Front load heatmap stops (no front -> light grey, then blue to yellow as the load grows).
+_FRONT_STOPS = np.array([[215, 215, 215], [70, 50, 130], [40, 120, 175], [60, 180, 115], [250, 220, 40]], float)
+
+
+def front_colors(load: np.ndarray) -> np.ndarray:
+    """(m, 3) uint8 per face for `SelfCollider.front_load`: grey where no front entry reaches,
+    else a ramp on log(1 + load) scaled to the frame's maximum (fronts span decades)."""
+    load = np.asarray(load, np.float64)
+    top = np.log1p(load.max()) if len(load) and load.max() > 0 else 1.0
+    t = np.where(load > 0, 0.25 + 0.75 * np.log1p(load) / top, 0.0)
+    x = t * (len(_FRONT_STOPS) - 1)
+    i = np.minimum(x.astype(int), len(_FRONT_STOPS) - 2)
+    f = (x - i)[:, None]
+    return np.round((1 - f) * _FRONT_STOPS[i] + f * _FRONT_STOPS[i + 1]).astype(np.uint8)
+
+
 def reason_legend() -> list[tuple[str, tuple]]:
     return [(REASONS[c][0], REASON_COLORS[c]) for c in sorted(REASON_COLORS) if c in REASONS]
 
 
-__all__ = ["compute", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS", "REASON_COLORS", "reason_name", "node_sentence"]
+__all__ = ["compute", "front_colors", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS", "REASON_COLORS", "reason_name", "node_sentence"]

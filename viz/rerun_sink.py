@@ -11,6 +11,8 @@ Entities (per-node data is batched into a few entities, never one entity per nod
                           tests included), front entries added/removed (front methods)
   /log                    TextLog: one plain sentence per failing node
   /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end)
+  /front/mesh             Mesh3D (front methods): each face coloured by how many BVTT front
+                          entries reach it (SelfCollider.front_load), in a second 3D tab
 For CCD recordings frame k shows the step from frame k to frame k + 1.
 """
 
@@ -26,10 +28,13 @@ from conecull.viz import layers as L
 MAX_LOG_LINES = 300  # per frame; the count of the rest is logged
 
 
-def blueprint() -> rrb.Blueprint:
+def blueprint(front: bool = False) -> rrb.Blueprint:
+    views = rrb.Spatial3DView(origin="/scene", name="mesh and culling")
+    if front:
+        views = rrb.Tabs(views, rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"))
     return rrb.Blueprint(
         rrb.Horizontal(
-            rrb.Spatial3DView(origin="/scene", name="mesh and culling"),
+            views,
             rrb.Vertical(rrb.TimeSeriesView(origin="/stats", name="stats"), rrb.TextLogView(origin="/log", name="why not culled")),
             column_shares=[3, 2],
         ),
@@ -41,11 +46,11 @@ class RerunRecorder:
     """Writes one .rrd; `log_frame` once per frame, then `close`."""
 
     def __init__(self, path: str, faces: np.ndarray, *, recording_id: str | None = None, bvh_depth: int = 4,
-                 app_id: str = "conecull"):
+                 app_id: str = "conecull", front: bool = False):
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
         self.rec.set_log_time_enabled(False)  # deterministic recordings: frame timeline only
         self.rec.save(path)
-        self.rec.send_blueprint(blueprint())
+        self.rec.send_blueprint(blueprint(front))
         self.faces = np.asarray(faces)
         self.bvh_depth = bvh_depth
         legend = "\n".join(f"- **{n}**: rgb{tuple(int(c) for c in L.STATUS_COLORS[i])}" for i, n in enumerate(L.STATUS_NAMES))
@@ -102,6 +107,12 @@ class RerunRecorder:
             rec.log("/stats/front/entries", rr.Scalars(s["front_entries"]))
             rec.log("/stats/front/added", rr.Scalars(s["front_added"]))
             rec.log("/stats/front/removed", rr.Scalars(s["front_removed"]))
+            load = col.front_load("ccd" if hasattr(res, "vf") else "dcd")
+            rec.log("/front/mesh", rr.Mesh3D(vertex_positions=V[self.faces].reshape(-1, 3),
+                                             vertex_colors=np.repeat(L.front_colors(load), 3, axis=0)))
+            rec.log("/front/legend", rr.TextDocument(
+                f"Front entries reaching each face (log scale, grey: none); max {int(load.max()) if len(load) else 0}, "
+                f"{s['front_entries']} entries in all", media_type=rr.MediaType.MARKDOWN))
 
         for line in lay.sentences[:MAX_LOG_LINES]:
             rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.INFO))
@@ -128,7 +139,8 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
         frame_range = [k for k in frame_range if k + 1 < len(frames)]
         if not frame_range:
             raise ValueError("--frames: CCD needs at least two frames (a step from frame k to k + 1)")
-    rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth)
+    rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth,
+                        front=method.endswith("+front"))
     out = []
     try:
         for i, k in enumerate(frame_range):

@@ -92,7 +92,8 @@ class ViewerApp:
         self.method = gui.add_dropdown("method", list(conecull.METHODS), initial_value=method)
         self.depth = gui.add_slider("BVH depth", min=0, max=max(1, self.max_depth), step=1, initial_value=min(4, self.max_depth))
         with gui.add_folder("layers"):
-            self.show_mesh = gui.add_checkbox("mesh (colour = verdict)", initial_value=True)
+            self.show_mesh = gui.add_checkbox("mesh", initial_value=True)
+            self.colour_by = gui.add_dropdown("mesh colour", ["verdict", "front load"], initial_value="verdict")
             self.show_contours = gui.add_checkbox("failing contours", initial_value=True)
             self.show_cones = gui.add_checkbox("cone axes", initial_value=False)
             self.show_boxes = gui.add_checkbox("BVH boxes at depth", initial_value=False)
@@ -103,7 +104,8 @@ class ViewerApp:
         with gui.add_folder("selected node"):
             self.panel = gui.add_markdown("Click the mesh to select the node at the chosen depth that holds that triangle.")
 
-        for handle in (self.frame, self.method, self.depth, self.show_mesh, self.show_contours, self.show_cones, self.show_boxes):
+        for handle in (self.frame, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
+                       self.show_cones, self.show_boxes):
             handle.on_update(lambda _event: self.update())
         self.update()
         self._player = threading.Thread(target=self._play_loop, daemon=True)
@@ -129,8 +131,12 @@ class ViewerApp:
             scene = self.server.scene
             with self.server.atomic():
                 exploded = V[self.faces].reshape(-1, 3)
+                # "front load": how many BVTT front entries reach each face (front methods, Alg. 4)
+                by_front = self.colour_by.value == "front load" and self.method.value.endswith("+front")
+                face_colors = L.front_colors(self.col.front_load("dcd")) if by_front else lay.face_colors
+                self.face_colors = face_colors
                 tm = trimesh.Trimesh(vertices=exploded, faces=np.arange(len(exploded)).reshape(-1, 3),
-                                     vertex_colors=np.repeat(lay.face_colors, 3, axis=0), process=False)
+                                     vertex_colors=np.repeat(face_colors, 3, axis=0), process=False)
                 handle = scene.add_mesh_trimesh("/mesh", tm, visible=bool(self.show_mesh.value))
                 handle.on_click(self._on_click)
                 segs = strip_segments(lay.contour_strips)
@@ -150,7 +156,11 @@ class ViewerApp:
                 self.stats_md.content = (
                     f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
                     f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
-                    f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**")
+                    f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**"
+                    + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']})"
+                       if self.method.value.endswith("+front") else "")
+                    + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
+                       and not self.method.value.endswith("+front") else ""))
                 self._draw_selection()
 
     def _on_click(self, event):

@@ -111,6 +111,29 @@ Arithmetic parse_arithmetic(const std::string& s) {
     throw py::value_error("arithmetic: expected 'float', 'conservative' or 'exact', got '" + s + "'");
 }
 
+// Front_X of every node X the last query tracked (bvtt_front.hpp), in traversal order.
+py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
+    const py::ssize_t n = static_cast<py::ssize_t>(bvh.nodes.size());
+    py::array_t<int32_t> count(n);
+    int32_t* c = count.mutable_data();
+    std::vector<int32_t> owner, ab;
+    for (py::ssize_t x = 0; x < n; ++x) {
+        const bool live = static_cast<size_t>(x) < f.tracked.size() && f.is_tracked(static_cast<int32_t>(x));
+        c[x] = live ? f.count[x] : 0;
+        for (int32_t i = 0; i < c[x]; ++i) {
+            const FrontEntry& e = f.entries[f.begin[x] + i];
+            owner.push_back(static_cast<int32_t>(x));
+            ab.push_back(e.a);
+            ab.push_back(e.b);
+        }
+    }
+    py::dict d;
+    d["count"] = count;
+    d["owner"] = to_numpy(owner);
+    d["entries"] = to_numpy(ab, 2);
+    return d;
+}
+
 }  // namespace
 
 void bind_collider(py::module_& m) {
@@ -195,7 +218,16 @@ void bind_collider(py::module_& m) {
         .def_property_readonly("threads", [](PyCollider& self) { return self.collider.threads(); })
         .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })
         .def("cone_arrays", [](PyCollider& self) { return cone_arrays(self.collider.cones()); })
-        .def("contour_arrays", [](PyCollider& self) { return contour_arrays(self.collider.contours()); });
+        .def("contour_arrays", [](PyCollider& self) { return contour_arrays(self.collider.contours()); })
+        .def(
+            "front_arrays",
+            [](PyCollider& self, bool continuous) {
+                std::lock_guard<std::mutex> lock(self.mutex);
+                return front_arrays(self.collider.front(continuous), self.collider.bvh());
+            },
+            py::arg("continuous"),
+            "The BVTT front the last DCD (continuous=False) or CCD query left: per entry its BVTT node (a, b) "
+            "and the internal node X whose sub-segment Front_X holds it; per BVH node the sub-segment size.");
 }
 
 }  // namespace conecull::bind

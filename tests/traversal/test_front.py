@@ -177,3 +177,55 @@ def test_culled_region_keeps_no_front():
     s = col.dcd(flat).stats
     assert s["front_entries"] == 0 and s["front_removed"] == before and len(col.dcd(flat).pairs) == 0
     assert as_set(col.dcd(frames[20]).pairs) == oracle("folding", 20)
+
+
+def check_front_is_a_cut(col, kind, stats):
+    """front_arrays: each Front_X is a cut of the BVTT of Collide(X->left, X->right): its entries
+    (a under X's left child, b under its right) cover every triangle pair (one in each child)
+    exactly once, so their triangle pair counts add up to the children's product (entries are
+    whole subtrees, disjoint by construction of a cut). front_load matches a brute-force count."""
+    fr, bvh = col.front_arrays(kind), col.bvh_arrays()
+    begin, end, left, right = bvh["begin"], bvh["end"], bvh["left"], bvh["right"]
+    assert len(fr["entries"]) == len(fr["owner"]) == fr["count"].sum() == stats["front_entries"]
+    assert np.array_equal(np.bincount(fr["owner"], minlength=len(begin)), fr["count"])
+    size = (end - begin).astype(np.int64)
+    for x in np.flatnonzero(fr["count"]):
+        mine = fr["entries"][fr["owner"] == x]
+        l, r = left[x], right[x]
+        a, b = mine[:, 0], mine[:, 1]
+        assert np.all((begin[l] <= begin[a]) & (end[a] <= end[l])), f"node {x}: an entry's a is not under X->left"
+        assert np.all((begin[r] <= begin[b]) & (end[b] <= end[r])), f"node {x}: an entry's b is not under X->right"
+        assert (size[a] * size[b]).sum() == size[l] * size[r], f"node {x}: Front_X is not a cut"
+        pairs = {(i, j) for i, j in zip(a.tolist(), b.tolist())}
+        assert len(pairs) == len(mine)
+    load = np.zeros(col.mesh.n_faces, np.int64)
+    for a, b in fr["entries"]:
+        load[bvh["order"][begin[a] : end[a]]] += 1
+        load[bvh["order"][begin[b] : end[b]]] += 1
+    assert np.array_equal(col.front_load(kind), load)
+
+
+@pytest.mark.parametrize("method", ["aabb+front", "nc+front"])
+def test_front_arrays_are_cuts_frame_after_frame(method):
+    F, frames = sequence("folding")
+    mesh = conecull.Mesh(F)
+    col = conecull.SelfCollider(mesh, method=method, threads=1)
+    seen = 0
+    for k in range(0, len(frames), 3):
+        s = col.dcd(frames[k]).stats
+        check_front_is_a_cut(col, "dcd", s)
+        seen += s["front_entries"] > 0
+    s = col.ccd(frames[10], frames[12]).stats
+    check_front_is_a_cut(col, "ccd", s)
+    assert seen >= 4 and s["front_entries"] > 0
+
+
+def test_front_arrays_errors():
+    F, frames = sequence("folding")
+    mesh = conecull.Mesh(F)
+    with pytest.raises(ValueError, match="method: 'nc' keeps no BVTT front"):
+        conecull.SelfCollider(mesh, method="nc").front_arrays()
+    col = conecull.SelfCollider(mesh, method="nc+front")
+    with pytest.raises(ValueError, match="kind: expected 'dcd' or 'ccd'"):
+        col.front_arrays("both")
+    assert len(col.front_arrays("dcd")["entries"]) == 0 and not col.front_load("ccd").any()  # before any query

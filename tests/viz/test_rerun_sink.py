@@ -63,3 +63,32 @@ def test_front_growth_is_recorded(tmp_path):
     assert max(s["front_added"] for s in stats) > 0 and min(s["front_entries"] for s in stats) > 0
     contour_ms = rows_by_frame(path, "/stats/ms/contour", "Scalars:scalars")
     assert len(contour_ms) == 8
+
+
+def test_front_drawn_on_the_mesh(tmp_path):
+    """A front method's recording colours each face by the front entries reaching it
+    (/front/mesh), frame by frame as a replay of the same queries computes them; other methods
+    log no /front entity."""
+    from conecull.viz.layers import front_colors
+
+    F, frames = load_sequence("fold")
+    frames = frames[-6:]
+    path = str(tmp_path / "front.rrd")
+    record(path, F, frames, method="nc+front", recording_id="test-front-mesh")
+    colors = rows_by_frame(path, "/front/mesh", "Mesh3D:vertex_colors")
+    assert sorted(colors) == list(range(len(frames)))
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method="nc+front")
+    col.dcd(frames[0])
+    distinct = 0
+    for k, V in enumerate(frames):
+        col.dcd(V)
+        load = col.front_load()
+        want = np.repeat(front_colors(load), 3, axis=0)
+        got = np.array(colors[k], dtype=np.int64)  # packed 0xRRGGBBAA per vertex
+        rgb = np.stack([(got >> 24) & 255, (got >> 16) & 255, (got >> 8) & 255], axis=1)
+        assert np.array_equal(rgb, want), f"frame {k}"
+        distinct = max(distinct, len(np.unique(load)))
+    assert distinct > 3  # the front really varies over the mesh
+    plain = str(tmp_path / "plain.rrd")
+    record(plain, F, frames[:2], method="nc", recording_id="test-no-front")
+    assert rows_by_frame(plain, "/front/mesh", "Mesh3D:vertex_colors") == {}

@@ -81,3 +81,4 @@ def test_viewer_in_browser(tmp_path):
                 ctx.close()
     finally:
         app.close()
+

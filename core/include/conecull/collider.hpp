@@ -77,6 +77,8 @@ class SelfCollider {
     const Bvh& bvh() const { return bvh_; }
     const Contours& contours() const { return contours_; }
     const std::vector<NormalCone>& cones() const { return cones_; }
+    // The BVTT front kept for DCD or CCD queries (front methods; empty before their first query).
+    const BvttFront& front(bool continuous) const { return continuous ? ccd_front_ : dcd_front_; }
 
    private:
     void build(const double* V);

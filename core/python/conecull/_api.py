@@ -248,6 +248,34 @@ class SelfCollider:
     def contour_arrays(self) -> dict:
         return self._core.contour_arrays()
 
+    def front_arrays(self, kind: str = "dcd") -> dict:
+        """The BVTT front (Alg. 4) the last query of `kind` ("dcd" or "ccd") left, front methods only:
+        "entries" (m, 2) BVTT nodes (a, b), "owner" (m,) the internal node X whose sub-segment
+        Front_X holds each entry, "count" (n_nodes,) the size of Front_X (0: no front kept there)."""
+        if not self.method.endswith("+front"):
+            raise ValueError(f"method: {self.method!r} keeps no BVTT front; front_arrays needs 'aabb+front' or 'nc+front'")
+        if kind not in ("dcd", "ccd"):
+            raise ValueError(f"kind: expected 'dcd' or 'ccd', got {kind!r}")
+        return self._core.front_arrays(kind == "ccd")
+
+    def front_load(self, kind: str = "dcd") -> np.ndarray:
+        """Per face, how many entries of the front (see front_arrays) have the face below one of
+        their two BVH nodes: where on the mesh the front's work is."""
+        fr = self.front_arrays(kind)
+        bvh = self._core.bvh_arrays()
+        n_faces = self.mesh.n_faces
+        if not len(bvh["order"]):
+            return np.zeros(n_faces, np.int64)
+        # Each entry adds 1 to the faces of node a and of node b: one range add per node on the
+        # BVH's face order (a difference array), then back to face ids.
+        per_node = np.bincount(fr["entries"].ravel(), minlength=len(bvh["begin"]))
+        diff = np.zeros(n_faces + 1, np.int64)
+        np.add.at(diff, bvh["begin"], per_node)
+        np.add.at(diff, bvh["end"], -per_node)
+        out = np.zeros(n_faces, np.int64)
+        out[bvh["order"]] = np.cumsum(diff[:-1])
+        return out
+
 
 _MAX_THREADS = 1024  # a sanity cap (a typo should not start thousands of threads)
 
