@@ -2,7 +2,7 @@
 # One entry point for a fresh machine that has python3, g++ and cmake:
 #   ./dev.sh demo     set up, then record the demo (demo.rrd: a sheet folding onto itself)
 #   ./dev.sh test     set up, then run the test suite
-#   ./dev.sh bench    set up, then run the benchmarks (tables + JSON in bench-results/)
+#   ./dev.sh bench    set up, then run the benchmarks (tables, report.md, plots, JSON in bench-results/)
 # Set-up creates .venv/ and installs conecull into it (editable, so rebuilds are incremental).
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
@@ -58,8 +58,9 @@ case "$cmd" in
         # also builds conecull._core_nohooks, the hook-free variant `bench trace` compares with
         setup -Ccmake.define.CONECULL_NOHOOKS_MODULE=ON
         if [ $# -eq 0 ]; then
-            for suite in dcd trace contour threads; do "$VENV/bin/python" -m conecull bench $suite || exit 1; done
-            exec "$VENV/bin/python" -m conecull bench ccd
+            # tracing overhead and leaf sizes, then the paper's evaluation (report.md, plots, JSON)
+            for suite in trace dcd; do "$VENV/bin/python" -m conecull bench $suite || exit 1; done
+            exec "$VENV/bin/python" -m conecull bench all
         fi
         exec "$VENV/bin/python" -m conecull bench "$@" ;;
     *) echo "usage: ./dev.sh {demo|test|bench|setup} [args]" >&2; exit 2 ;;

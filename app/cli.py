@@ -50,18 +50,27 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", choices=["dcd", "trace", "ccd", "contour", "threads"],
-                   help="dcd: methods and leaf sizes; trace: tracing overhead; ccd: what accuracy costs in time; "
-                        "contour: contour test time, ours vs the sct and cbc baselines (Fig. 9); "
-                        "threads: 1 thread vs --threads")
+    p.add_argument("suite", nargs="?", default="all", choices=["all", "dcd", "trace", "ccd", "contour", "threads"],
+                   help="all (default): the paper's evaluation on our scenes and the shared steps, with report.md, "
+                        "PNG plots and JSON; dcd: methods and leaf sizes; trace: tracing overhead; "
+                        "ccd: what accuracy costs in time; contour: contour test time, ours vs the sct and cbc "
+                        "baselines (Fig. 9); threads: 1 thread vs --threads")
+    p.add_argument("--scenes", help="all: comma-separated scenes (default the paper-sized ones: "
+                                    "funnel,twisting,flowing,falling,flamenco,squishy)")
+    p.add_argument("--resolution", type=int, help="all: the scenes' resolution (default each scene's own)")
+    p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
+                                   "(default 16000,64000,256000,1000000)")
+    p.add_argument("--skip", help="all: comma-separated sections to leave out: "
+                                  "scenes,steps,ipctk,contour,ccd,scaling,threads")
     p.add_argument("--triangles", type=int, default=64000)
-    p.add_argument("--frames", type=int, default=8)
+    p.add_argument("--frames", type=int, default=8, help="frames per query sequence (all: the last N of each scene)")
     p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
     p.add_argument("--threads", type=int, help="threads per query (dcd, ccd: default 1; trace, contour: always 1); "
                                                "the threads suite compares 1 thread with this many (default 2)")
 
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
         return _run(args)
     except (ValueError, FileNotFoundError) as e:
@@ -133,6 +142,14 @@ def _run(args) -> int:
         res = col.dcd(frames[args.frame], trace=True)
         print(explain_node(col, res, args.node))
         return 0
+    if args.command == "bench" and args.suite == "all":
+        from conecull.app.evaluation import run_all
+
+        if args.threads is not None and args.threads < 1:
+            raise ValueError(f"--threads: expected a positive count, got {args.threads}")
+        if args.repeats < 1:
+            raise ValueError(f"--repeats: expected a positive count, got {args.repeats}")
+        return run_all(args)
     if args.command == "bench":
         from conecull.app.bench import (run_ccd_bench, run_contour_bench, run_dcd_bench, run_threads_bench,
                                         run_trace_bench)

@@ -1,0 +1,527 @@
+"""`conecull bench` (suite "all"): the paper's evaluation (Sec. 6) on our scenes and the shared
+real steps, as markdown tables (stdout and report.md), PNG plots and JSON, in one folder.
+
+Sections: query time per method for DCD and CCD (Fig. 10); front size of nc+front against
+aabb+front over the frames (Fig. 11); culling efficiency per frame, elementary tests against
+true collisions (Fig. 1); contour-test time (Fig. 9) and the accuracy table (the `contour` and
+`ccd` suites); scaling with the triangle count; 1 thread against 2 (the `threads` suite); and,
+when ipctk is installed, ipctk side by side on the same steps.
+
+Timing protocol: every method has its own collider and walks the frames in order, pass after
+pass, so a front method always starts from the front the previous frame left (as in a
+simulation); within a frame the methods take turns, so load on a shared machine hits all alike.
+The first frame of a pass follows a jump (the last frame of the previous pass) and is not
+timed. Per frame the median over passes, then the median over frames. One thread unless told.
+Before timing, every method's result is checked equal to that of "nc" (and, on the shared
+steps, to the ground truth): a benchmark of a wrong answer is worthless.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+
+import numpy as np
+
+import conecull
+from conecull.datasets.generated import fold, sheet_for_triangles
+
+PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
+DCD_METHODS = conecull.METHODS
+CCD_METHODS = conecull.CCD_METHODS
+SIZES = (16000, 64000, 256000, 1000000)
+
+
+class _Tee(io.TextIOBase):
+    """Prints and keeps a copy (the sections' markdown goes to stdout and to report.md)."""
+
+    def __init__(self, out):
+        self.out, self.buf = out, io.StringIO()
+
+    def write(self, s):
+        self.out.write(s)
+        self.buf.write(s)
+        return len(s)
+
+    def flush(self):
+        self.out.flush()
+
+
+def _pairs_of(res):
+    if hasattr(res, "vf"):
+        return (res.vf.tobytes(), res.ee.tobytes())
+    return res.pairs.tobytes()
+
+
+def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact"):
+    """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
+    and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
+    mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
+    cols = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in methods}
+    for col in cols.values():
+        col.dcd(frames[0])  # builds the BVH and contours
+    n = len(frames) - 1 if ccd else len(frames)
+    ms = {m: [[] for _ in range(n)] for m in methods}
+    stats = {m: [None] * n for m in methods}
+    for _ in range(repeats):
+        for k in range(n):
+            ref = None
+            for m, col in cols.items():
+                t = time.perf_counter()
+                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else col.dcd(frames[k])
+                ms[m][k].append(1e3 * (time.perf_counter() - t))
+                stats[m][k] = {key: v for key, v in res.stats.items() if not isinstance(v, dict)}
+                if ref is None:
+                    ref = _pairs_of(res)
+                elif _pairs_of(res) != ref:
+                    raise AssertionError(f"{m} disagrees with {methods[0]} at {'step' if ccd else 'frame'} {k}")
+    timed = range(1, n)
+    if n == 1 and repeats > 1:  # one step: its first pass is the warm-up instead
+        for m in methods:
+            del ms[m][0][0]
+    per_frame = {m: [statistics.median(ms[m][k]) for k in range(n)] for m in methods}
+    med = {m: statistics.median(per_frame[m][k] for k in timed) if n > 1 else per_frame[m][0] for m in methods}
+    return med, per_frame, stats
+
+
+def _window(frames, n):
+    """The last n frames (contact is heaviest at the end of our scenes); all when n <= 0."""
+    return frames if n <= 0 or n >= len(frames) else frames[len(frames) - n:]
+
+
+def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
+    """Fig. 10 (DCD and CCD query time per method), Fig. 11 (front entries over the frames), Fig. 1
+    (culling efficiency per frame) on the built-in scenes."""
+    from conecull.datasets import load
+
+    print(f"## Query time per method (Fig. 10), our scenes: the last {n_frames} frames of each, {repeats} passes, "
+          f"{threads} thread(s); ms per query (medians)")
+    print()
+    rows = []
+    for name in scenes:
+        t = time.perf_counter()
+        F, P = load(name, resolution)
+        gen_s = time.perf_counter() - t
+        W = _window(P, n_frames)
+        print(f"- {name}: {len(F)} triangles, frames {len(P) - len(W)}..{len(P) - 1} of {len(P)} "
+              f"(loaded in {gen_s:.1f} s)", file=sys.stderr, flush=True)
+        dcd_med, dcd_pf, dcd_st = time_sequence(F, W, DCD_METHODS, repeats, threads=threads)
+        ccd_med, ccd_pf, ccd_st = time_sequence(F, W, CCD_METHODS, repeats, ccd=True, threads=threads)
+        # Fig. 11 and Fig. 1 over every frame of the scene: counters only (one pass, untimed).
+        _, _, all_dcd = time_sequence(F, P, ("aabb", "nc", "aabb+front", "nc+front"), 1, threads=threads)
+        rows.append({"scene": name, "triangles": len(F), "frames": len(P), "window": len(W),
+                     "dcd_ms": dcd_med, "ccd_ms": ccd_med, "dcd_ms_per_frame": dcd_pf, "ccd_ms_per_step": ccd_pf,
+                     "dcd_stats": dcd_st, "ccd_stats": ccd_st, "all_frames": all_dcd})
+    _fig10_tables(rows, "scene")
+    _fig11_table(rows)
+    _fig1_table(rows)
+    results["scenes"] = rows
+    return rows
+
+
+def _fig10_tables(rows, key):
+    for kind, methods in (("dcd", DCD_METHODS), ("ccd", CCD_METHODS)):
+        label = "DCD" if kind == "dcd" else "CCD (exact)"
+        print(f"| {label} | triangles | " + " | ".join(methods) + " | nc+front vs nc | nc+front vs aabb |")
+        print("|---|---|" + "---|" * len(methods) + "---|---|")
+        for r in rows:
+            ms = r[f"{kind}_ms"]
+            cells = " | ".join(f"{ms[m]:.1f}" if m in ms else "-" for m in methods)
+            print(f"| {r[key]} | {r['triangles']} | {cells} | {ms['nc'] / ms['nc+front']:.2f}x | "
+                  f"{ms['aabb'] / ms['nc+front']:.2f}x |")
+        print()
+
+
+def _fig11_table(rows):
+    print("## Front size (Fig. 11): entries kept after each DCD query, nc+front against aabb+front, every frame")
+    print()
+    print("| scene | median nc+front | median aabb+front | ratio (median over frames) | max ratio | nc+front KiB |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        st = r["all_frames"]
+        nc = np.array([s["front_entries"] for s in st["nc+front"]], float)
+        ab = np.array([s["front_entries"] for s in st["aabb+front"]], float)
+        ratio = nc[ab > 0] / ab[ab > 0]
+        kib = statistics.median(s["front_bytes"] for s in st["nc+front"]) / 1024
+        r["front_ratio"] = float(np.median(ratio)) if len(ratio) else float("nan")
+        print(f"| {r['scene']} | {np.median(nc):.0f} | {np.median(ab):.0f} | {r['front_ratio']:.2f} | "
+              f"{ratio.max() if len(ratio) else float('nan'):.2f} | {kib:.0f} |")
+    print()
+
+
+def _fig1_table(rows):
+    print("## Culling efficiency (Fig. 1): colliding pairs / elementary tests per DCD query, every frame "
+          "(1 = every test found a collision)")
+    print()
+    print("| scene | median colliding pairs | aabb tests | nc tests | aabb efficiency | nc efficiency | "
+          "tests saved by nc |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        st = r["all_frames"]
+        pairs = np.array([s["colliding_pairs"] for s in st["nc"]], float)
+        ta = np.array([s["elementary_tests"] for s in st["aabb"]], float)
+        tn = np.array([s["elementary_tests"] for s in st["nc"]], float)
+        eff = lambda t: np.median(pairs[t > 0] / t[t > 0]) if (t > 0).any() else float("nan")  # noqa: E731
+        print(f"| {r['scene']} | {np.median(pairs):.0f} | {np.median(ta):.0f} | {np.median(tn):.0f} | {eff(ta):.4f} | "
+              f"{eff(tn):.4f} | {1 - tn.sum() / max(1.0, ta.sum()):.1%} |")
+    print()
+
+
+def _shared_steps():
+    from conecull.app.bench import _shared_data_dir, pathlib_tests
+
+    data = _shared_data_dir()
+    if data is None:
+        return []
+    sys.path.insert(0, str(pathlib_tests()))
+    from shared_data import load_scalable_step
+
+    steps = []
+    for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
+        for vf in sorted((scene / "boxes").glob("*vf.json")):
+            F, V0, V1, vf_t, ee_t = load_scalable_step(scene.name, vf.name[: -len("vf.json")])
+            steps.append((scene.name, F, V0, V1, vf_t, ee_t))
+    return steps
+
+
+def _generated_step(n_triangles=64000):
+    from conecull.app.bench import _generated_ccd_steps
+
+    name, F, V0, V1, _, _ = _generated_ccd_steps(n_triangles)[1]
+    return (name, F, V0, V1, None, None)
+
+
+def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
+    """Fig. 10 on the shared real steps (and the generated cloth step): CCD per method in exact
+    arithmetic over the step, and DCD per method at its end pose; CCD checked against the ground truth."""
+    steps = _shared_steps() + [_generated_step(n_triangles)] if steps is None else steps
+    print(f"## Query time per method (Fig. 10), real steps (../shared/data/scalable-ccd) and a generated cloth step: "
+          f"{repeats} runs, {threads} thread(s), ms per query (medians)")
+    print()
+    rows = []
+    for name, F, V0, V1, vf_t, ee_t in steps:
+        P = np.stack([V0, V1])
+        ccd_med, _, ccd_st = time_sequence(F, P, CCD_METHODS, repeats + 1, ccd=True, threads=threads)
+        # DCD at the end pose: frame 0 (V0) is the untimed warm-up, frame 1 (V1) is timed.
+        dcd_med, _, _ = time_sequence(F, P, DCD_METHODS, repeats, threads=threads)
+        mesh = conecull.Mesh(F, n_vertices=len(V0))
+        res = conecull.SelfCollider(mesh, method="nc", threads=threads).ccd(V0, V1)
+        vf, ee = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
+        if vf_t is not None and (vf != vf_t or ee != ee_t):
+            raise AssertionError(f"{name}: exact CCD differs from the ground truth")
+        rows.append({"scene": name, "triangles": len(F), "dcd_ms": dcd_med, "ccd_ms": ccd_med, "ccd_stats": ccd_st,
+                     "contacts": len(vf) + len(ee), "ground_truth": vf_t is not None})
+    _fig10_tables(rows, "scene")
+    print("(real steps: one step each, so the front methods start from the front of the same step's previous "
+          "pass; every method returned exactly the ground-truth VF and EE sets)")
+    print()
+    results["steps"] = rows
+    return steps
+
+
+def run_scaling(sizes, n_frames, repeats, threads, results):
+    """ms per query and ns per triangle from ~16K to 1M triangles: the folded sheet of `bench dcd`
+    (its contact line grows like sqrt(n), like the rest of the work per triangle... almost)."""
+    from conecull.app.bench import _folded_sheet_frames
+
+    print(f"## Scaling: the folded sheet of `bench dcd` at several sizes, {n_frames} frames, {repeats} passes, "
+          f"{threads} thread(s)")
+    print()
+    print("| triangles | DCD nc ms | DCD nc+front ms | CCD nc exact ms | DCD nc ns/triangle | DCD nc+front ns/triangle | "
+          "CCD ns/triangle | colliding pairs |")
+    print("|---|---|---|---|---|---|---|---|")
+    rows = []
+    for n in sizes:
+        F, frames = _folded_sheet_frames(n, n_frames)
+        P = np.stack(frames)
+        dcd, _, st = time_sequence(F, P, ("nc", "nc+front"), repeats, threads=threads)
+        rng = np.random.default_rng(0)
+        J = 1e-5 * rng.standard_normal(P.shape[1:])  # as `bench ccd`: no exact symmetries
+        ccd, _, _ = time_sequence(F, P[-3:] + J, ("nc",), repeats, ccd=True, threads=threads)
+        m = len(F)
+        row = {"triangles": m, "dcd_nc_ms": dcd["nc"], "dcd_nc_front_ms": dcd["nc+front"], "ccd_nc_ms": ccd["nc"],
+               "colliding_pairs": st["nc"][-1]["colliding_pairs"]}
+        rows.append(row)
+        print(f"| {m} | {dcd['nc']:.1f} | {dcd['nc+front']:.1f} | {ccd['nc']:.1f} | {1e6 * dcd['nc'] / m:.0f} | "
+              f"{1e6 * dcd['nc+front'] / m:.0f} | {1e6 * ccd['nc'] / m:.0f} | {row['colliding_pairs']} |")
+    base = next((r for r in rows if abs(r["triangles"] - 64000) < 8000), rows[0])
+    print()
+    for r in rows:
+        r["dcd_per_triangle_vs_64k"] = (r["dcd_nc_ms"] / r["triangles"]) / (base["dcd_nc_ms"] / base["triangles"])
+    print("ns per triangle relative to " + f"{base['triangles']} triangles (DCD nc): " +
+          ", ".join(f"{r['triangles']}: {r['dcd_per_triangle_vs_64k']:.2f}" for r in rows))
+    print()
+    results["scaling"] = rows
+    return rows
+
+
+IPCTK_MAX_CANDIDATES = 2_000_000  # beyond this a per-candidate loop takes minutes per run
+
+
+def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CANDIDATES):
+    """ipctk side by side: its LBVH broad phase + Tight-Inclusion narrow phase over every candidate
+    (one thread) against our exact CCD (nc); its has_intersections against our DCD (nc) at the end
+    pose. Both times, and whether each found the ground-truth set."""
+    try:
+        import ipctk
+    except ImportError:
+        print("## ipctk side by side: skipped (ipctk is not installed: pip install 'conecull[bench]')")
+        print()
+        return None
+    ipctk.set_num_threads(1)
+    print(f"## ipctk {getattr(ipctk, '__version__', '')} side by side (one thread; medians of {repeats} runs)")
+    print()
+    print("| step | triangles | ipctk broad ms | ipctk narrow ms | ipctk CCD ms | candidates | ipctk FN / FP | "
+          "ours exact CCD ms | ours FN / FP | CCD speed-up | ipctk stepsize ms | has_intersections ms | ours DCD ms | "
+          "DCD speed-up | intersecting (ipctk / ours) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    rows = []
+    for name, F, V0, V1, vf_t, ee_t in steps:
+        mesh = conecull.Mesh(F, n_vertices=len(V0))
+        E = np.asfortranarray(mesh.edges.astype(np.int32))
+        Fi = np.asfortranarray(np.asarray(F, np.int32))
+        A0, A1 = np.asfortranarray(V0), np.asfortranarray(V1)
+        cm = ipctk.CollisionMesh(A0, E, Fi)
+        ti = ipctk.TightInclusionCCD()
+        broad, narrow, stepsize, found = [], [], [], None
+        for _ in range(repeats):
+            t = time.perf_counter()
+            cand = ipctk.Candidates()
+            cand.build(cm, A0, A1, broad_phase=ipctk.LBVH())
+            broad.append(time.perf_counter() - t)
+            # ipctk's own native loop over the candidates (it shrinks tmax to the earliest impact
+            # found so far, so it does less than a full narrow phase: a lower bound on its cost).
+            t = time.perf_counter()
+            cand.compute_collision_free_stepsize(cm, A0, A1)
+            stepsize.append(time.perf_counter() - t)
+            if len(cand) > max_candidates:
+                break
+            fv, ee = cand.fv_candidates, cand.ee_candidates
+            ids_fv = np.array([(c.vertex_id, c.face_id) for c in fv], np.int64).reshape(-1, 2)
+            ids_ee = np.array([(c.edge0_id, c.edge1_id) for c in ee], np.int64).reshape(-1, 2)
+            rows_fv = np.column_stack([ids_fv[:, 0], np.asarray(F)[ids_fv[:, 1]]]) if len(ids_fv) else np.zeros((0, 4), int)
+            rows_ee = np.column_stack([E[ids_ee[:, 0]], E[ids_ee[:, 1]]]) if len(ids_ee) else np.zeros((0, 4), int)
+            # The narrow phase: Tight-Inclusion on every candidate, one call each (a Python loop:
+            # ~2 us per call of overhead, measured, against tens of us per call of work).
+            X0f, X1f, X0e, X1e = V0[rows_fv], V1[rows_fv], V0[rows_ee], V1[rows_ee]
+            hf = np.zeros(len(rows_fv), bool)
+            he = np.zeros(len(rows_ee), bool)
+            t = time.perf_counter()
+            for i in range(len(rows_fv)):
+                a, b = X0f[i], X1f[i]
+                hf[i] = ti.point_triangle_ccd(a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3])[0]
+            for i in range(len(rows_ee)):
+                a, b = X0e[i], X1e[i]
+                he[i] = ti.edge_edge_ccd(a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3])[0]
+            narrow.append(time.perf_counter() - t)
+            found = ({tuple(r) for r in ids_fv[hf].tolist()}, {tuple(sorted(r)) for r in ids_ee[he].tolist()})
+        col = conecull.SelfCollider(mesh, method="nc", threads=threads)
+        col.dcd(V0)
+        ours, ours_dcd, has_t = [], [], []
+        for _ in range(repeats):
+            t = time.perf_counter()
+            res = col.ccd(V0, V1)
+            ours.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            dres = col.dcd(V1)
+            ours_dcd.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            has = ipctk.has_intersections(cm, A1, broad_phase=ipctk.LBVH())
+            has_t.append(time.perf_counter() - t)
+        vf, eeo = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
+        if vf_t is None:
+            vf_t, ee_t = vf, eeo  # generated step: exact mode is the ground truth (checked against brute force in tests)
+        fn_o = len(vf_t - vf) + len(ee_t - eeo)
+        fp_o = len(vf - vf_t) + len(eeo - ee_t)
+        b, ss = 1e3 * statistics.median(broad), 1e3 * statistics.median(stepsize)
+        o, od, h = 1e3 * statistics.median(ours), 1e3 * statistics.median(ours_dcd), 1e3 * statistics.median(has_t)
+        row = {"step": name, "triangles": len(F), "ipctk_broad_ms": b, "candidates": len(cand), "ours_ms": o,
+               "ours_fn": fn_o, "ours_fp": fp_o, "ipctk_stepsize_ms": ss, "has_intersections_ms": h,
+               "ours_dcd_ms": od, "dcd_speedup": h / od, "ipctk_intersecting": bool(has),
+               "ours_intersecting": len(dres.pairs) > 0}
+        if found is not None:
+            nr = 1e3 * statistics.median(narrow)
+            row.update(ipctk_narrow_ms=nr, ipctk_ms=b + nr, ccd_speedup=(b + nr) / o,
+                       ipctk_fn=len(vf_t - found[0]) + len(ee_t - found[1]),
+                       ipctk_fp=len(found[0] - vf_t) + len(found[1] - ee_t))
+            narrow_cells = (f"{nr:.1f} | {b + nr:.1f} | {row['candidates']} | {row['ipctk_fn']} / {row['ipctk_fp']} | "
+                            f"{o:.1f} | {fn_o} / {fp_o} | {row['ccd_speedup']:.1f}x")
+        else:
+            narrow_cells = (f"not run | - | {row['candidates']} | - | {o:.1f} | {fn_o} / {fp_o} | "
+                            f">= {(b + ss) / o:.1f}x (stepsize)")
+        rows.append(row)
+        print(f"| {name} | {len(F)} | {b:.1f} | {narrow_cells} | {ss:.1f} | {h:.1f} | {od:.1f} | "
+              f"{row['dcd_speedup']:.1f}x | {has} / {len(dres.pairs) > 0} |")
+    print()
+    print("(ipctk: Candidates.build with LBVH, then TightInclusionCCD (tolerance 1e-6, min distance 0) on every "
+          "FV and EE candidate, one Python call each (about 2 us of call overhead against 10-100 us of work); "
+          f"'not run' above {max_candidates} candidates, where that loop takes minutes; there the speed-up is "
+          "against broad phase + ipctk's native compute_collision_free_stepsize, which stops refining a candidate "
+          "past the earliest impact found so far, so it is a lower bound. FN / FP against the ground truth; "
+          "ours: SelfCollider(method='nc').ccd, exact; has_intersections against our DCD at the end pose)")
+    print()
+    results["ipctk"] = rows
+    return rows
+
+
+def _plots(results, out):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("(PNG plots skipped: matplotlib is not installed: pip install 'conecull[bench]')")
+        return []
+    made = []
+
+    def save(fig, name):
+        path = os.path.join(out, name)
+        fig.tight_layout()
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        made.append(path)
+
+    bars = (results.get("scenes") or []) + (results.get("steps") or [])
+    for kind, methods in (("dcd", DCD_METHODS), ("ccd", CCD_METHODS)):
+        if not bars:
+            break
+        fig, ax = plt.subplots(figsize=(10, 4))
+        w = 0.8 / len(methods)
+        x = np.arange(len(bars))
+        for i, m in enumerate(methods):
+            ax.bar(x + i * w, [r[f"{kind}_ms"].get(m, np.nan) for r in bars], w, label=m)
+        ax.set_xticks(x + 0.4 - w / 2, [f"{r['scene']}\n{r['triangles'] // 1000}K" for r in bars], fontsize=8)
+        ax.set_yscale("log")
+        ax.set_ylabel("ms per query (log)")
+        ax.set_title(f"Fig. 10: {'DCD' if kind == 'dcd' else 'CCD (exact)'} query time per method, one thread")
+        ax.legend(fontsize=8, ncol=3)
+        save(fig, f"fig10_{kind}.png")
+    scenes = results.get("scenes") or []
+    if scenes:
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+        for r in scenes:
+            st = r["all_frames"]
+            nc = [s["front_entries"] for s in st["nc+front"]]
+            ab = [s["front_entries"] for s in st["aabb+front"]]
+            line, = axes[0].plot(nc, label=f"{r['scene']} nc+front")
+            axes[0].plot(ab, "--", color=line.get_color(), alpha=0.6)
+            ratio = [a / b if b else np.nan for a, b in zip(nc, ab)]
+            axes[1].plot(ratio, color=line.get_color(), label=r["scene"])
+        axes[0].set_yscale("log")
+        axes[0].set_title("Fig. 11: front entries (solid nc+front, dashed aabb+front)")
+        axes[0].set_xlabel("frame")
+        axes[0].legend(fontsize=7)
+        axes[1].set_title("nc+front / aabb+front")
+        axes[1].axhline(0.4, color="grey", lw=0.8, ls=":")
+        axes[1].set_xlabel("frame")
+        axes[1].legend(fontsize=7)
+        save(fig, "fig11_front.png")
+        fig, axes = plt.subplots(1, len(scenes), figsize=(3.2 * len(scenes), 3.2), squeeze=False)
+        for ax, r in zip(axes[0], scenes):
+            st = r["all_frames"]
+            ax.plot([s["elementary_tests"] for s in st["aabb"]], label="aabb tests")
+            ax.plot([s["elementary_tests"] for s in st["nc"]], label="nc tests")
+            ax.plot([s["colliding_pairs"] for s in st["nc"]], label="collisions")
+            ax.set_yscale("symlog")
+            ax.set_title(f"{r['scene']} ({r['triangles'] // 1000}K)", fontsize=9)
+            ax.set_xlabel("frame")
+        axes[0][0].legend(fontsize=7)
+        fig.suptitle("Fig. 1: elementary tests vs true collisions per DCD query")
+        save(fig, "fig1_efficiency.png")
+    sc = results.get("scaling") or []
+    if sc:
+        fig, ax = plt.subplots(figsize=(6, 4))
+        n = [r["triangles"] for r in sc]
+        for key, label in (("dcd_nc_ms", "DCD nc"), ("dcd_nc_front_ms", "DCD nc+front"), ("ccd_nc_ms", "CCD nc exact")):
+            ax.plot(n, [1e6 * r[key] / r["triangles"] for r in sc], "o-", label=label)
+        ax.set_xscale("log")
+        ax.set_xlabel("triangles")
+        ax.set_ylabel("ns per triangle per query")
+        ax.set_ylim(bottom=0)
+        ax.set_title("Scaling: folded sheet, one thread")
+        ax.legend()
+        save(fig, "scaling.png")
+    return made
+
+
+def run_all(args) -> int:
+    """The whole evaluation; sections can be left out (see the CLI's options)."""
+    from conecull.app import bench
+
+    out = args.out
+    os.makedirs(out, exist_ok=True)
+    threads = args.threads or 1
+    scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
+    from conecull.datasets import names
+
+    for s in scenes:
+        if s not in names():
+            raise ValueError(f"--scenes: unknown scene '{s}'; known: {', '.join(names())}")
+    sizes = SIZES if args.sizes is None else tuple(int(s) for s in args.sizes.split(",") if s)
+    skip = set(args.skip.split(",")) if args.skip else set()
+    unknown = skip - {"scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"}
+    if unknown:
+        raise ValueError(f"--skip: unknown sections {sorted(unknown)}")
+    results = {"machine": {"cpu": platform.processor() or platform.machine(), "cores": os.cpu_count(),
+                           "python": platform.python_version()}, "threads": threads, "repeats": args.repeats}
+    tee = _Tee(sys.stdout)
+    t0 = time.perf_counter()
+    with contextlib.redirect_stdout(tee):
+        print(f"# conecull evaluation ({time.strftime('%Y-%m-%d')}, {results['machine']['cpu']}, "
+              f"{os.cpu_count()} cores, {threads} thread(s) unless a section says otherwise)")
+        print()
+        print("Command: `python -m conecull bench " + " ".join(args.argv) + "`")
+        print()
+        steps = []
+        if "scenes" not in skip and scenes:
+            run_scenes(scenes, args.frames, args.repeats, threads, results, resolution=args.resolution)
+        if "steps" not in skip:
+            steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
+        if "ipctk" not in skip:
+            run_ipctk(steps or _shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results)
+        if "contour" not in skip:
+            print("## Contour tests (Fig. 9)")
+            print()
+            bench.run_contour_bench(args.triangles, min(args.frames, 8) if args.frames > 0 else 8, args.repeats, out)
+            print()
+        if "ccd" not in skip:
+            print("## What accuracy costs in time")
+            print()
+            bench.run_ccd_bench(args.triangles, 0, args.repeats, out, threads=threads)
+            print()
+        if "scaling" not in skip and sizes:
+            run_scaling(sizes, 4, args.repeats, threads, results)
+        if "threads" not in skip:
+            print("## Threads")
+            print()
+            bench.run_threads_bench(args.triangles, 4, args.repeats, out, threads=2)
+            print()
+        plots = _plots(results, out)
+        results["seconds"] = time.perf_counter() - t0
+        print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'}; JSON: {out}/paper.json "
+              f"(and the sections' own JSON); took {results['seconds'] / 60:.1f} min.")
+    with open(os.path.join(out, "report.md"), "w") as fh:
+        fh.write(tee.buf.getvalue())
+    with open(os.path.join(out, "paper.json"), "w") as fh:
+        json.dump(results, fh, indent=1, default=_json_default)
+    print(f"wrote {out}/report.md")
+    return 0
+
+
+def _json_default(x):
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, (np.floating,)):
+        return float(x)
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (set, frozenset)):
+        return sorted(x)
+    raise TypeError(type(x).__name__)
