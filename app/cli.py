@@ -64,7 +64,7 @@ def main(argv: list[str] | None = None) -> int:
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads")
     p.add_argument("--triangles", type=int, default=64000)
     p.add_argument("--frames", type=int, default=8, help="frames per query sequence (all: the last N of each scene)")
-    p.add_argument("--repeats", type=int, default=5, help="timed runs per frame; medians are reported")
+    p.add_argument("--repeats", type=int, help="timed runs per frame; medians are reported (default 5; all: 3)")
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
     p.add_argument("--threads", type=int, help="threads per query (dcd, ccd: default 1; trace, contour: always 1); "
                                                "the threads suite compares 1 thread with this many (default 2)")
@@ -147,7 +147,7 @@ def _run(args) -> int:
 
         if args.threads is not None and args.threads < 1:
             raise ValueError(f"--threads: expected a positive count, got {args.threads}")
-        if args.repeats < 1:
+        if args.repeats is not None and args.repeats < 1:
             raise ValueError(f"--repeats: expected a positive count, got {args.repeats}")
         return run_all(args)
     if args.command == "bench":
@@ -160,7 +160,7 @@ def _run(args) -> int:
             raise ValueError(f"--threads: expected a positive count, got {args.threads}")
         # trace and contour always measure one thread (a traced query runs on one)
         extra = {} if args.threads is None or args.suite in ("trace", "contour") else {"threads": args.threads}
-        return run(args.triangles, args.frames, args.repeats, args.out, **extra)
+        return run(args.triangles, args.frames, 5 if args.repeats is None else args.repeats, args.out, **extra)
     return 2
 
 
