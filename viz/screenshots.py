@@ -32,8 +32,10 @@ def _browser(p):
                                                 viewport=VIEWPORT)
 
 
-def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution: int | None = None) -> None:
-    """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC."""
+def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution: int | None = None,
+                     method: str = "nc", front_view: bool = False, wait: float = 12.0) -> None:
+    """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC.
+    front_view: show the BVTT front on the mesh and its growth instead (a +front method)."""
     import rerun as rr
     import rerun_cli
     from playwright.sync_api import sync_playwright
@@ -49,12 +51,20 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
     try:
         time.sleep(3)
         F, frames = load_sequence(scene, resolution=resolution)
-        col = conecull.SelfCollider(conecull.Mesh(F))
+        col = conecull.SelfCollider(conecull.Mesh(F), method=method)
         col.dcd(frames[0])
         rec = RerunRecorder.__new__(RerunRecorder)  # same logging, other sink: gRPC instead of a file
         rec.rec = rr.RecordingStream("conecull", recording_id="screenshot")
         rec.rec.connect_grpc(f"rerun+http://127.0.0.1:{grpc}/proxy")
-        rec.rec.send_blueprint(blueprint())
+        if front_view:
+            import rerun.blueprint as rrb
+
+            rec.rec.send_blueprint(rrb.Blueprint(rrb.Horizontal(
+                rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"),
+                rrb.TimeSeriesView(origin="/stats/front", name="front entries, added, removed"),
+                column_shares=[3, 2]), collapse_panels=True))
+        else:
+            rec.rec.send_blueprint(blueprint(method.endswith("+front")))
         rec.faces, rec.bvh_depth = conecull.Mesh(F).faces, 4
         for k in range(frame + 1):
             rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True))
@@ -63,7 +73,7 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
             ctx = _browser(p)
             page = ctx.new_page()
             page.goto(f"http://127.0.0.1:{web}/?url=rerun%2Bhttp://127.0.0.1:{grpc}/proxy")
-            time.sleep(12)  # the web viewer renders with software WebGL
+            time.sleep(wait)  # the web viewer renders with software WebGL
             page.screenshot(path=path)
             ctx.close()
         rec.rec.disconnect()
@@ -109,4 +119,6 @@ if __name__ == "__main__":
     rerun_screenshot(os.path.join(out, "rerun.png"))
     # a paper-sized simulated scene in the debugger (generates `funnel` first if not cached: minutes)
     rerun_screenshot(os.path.join(out, "rerun-funnel.png"), scene="funnel", frame=40)
-    print(f"wrote {out}/viser.png, {out}/rerun.png and {out}/rerun-funnel.png")
+    rerun_screenshot(os.path.join(out, "rerun-front.png"), scene="fold", frame=26, method="nc+front", front_view=True,
+                     wait=40.0)
+    print(f"wrote {out}/viser.png, {out}/rerun.png, {out}/rerun-funnel.png and {out}/rerun-front.png")
