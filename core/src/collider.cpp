@@ -162,9 +162,11 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     DcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
-    if (!built_) build(V);
-    else refit_boxes(bvh_, *topo_, V, query_threads_);
-    if (uses_cones(method_)) refit_cones(bvh_, *topo_, V, cones_, query_threads_);
+    const bool fresh = !built_;
+    if (fresh) build(V);  // boxes fit to V
+    // Boxes and cones in one sweep (bvh.cpp); refitting a fresh BVH's boxes gives them again.
+    if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
+    else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
     return res;
@@ -209,8 +211,8 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
     if (!built_) build(V0);
-    refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
-    if (uses_cones(method_)) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
+    if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
+    else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
     if (want_toi) {
