@@ -76,19 +76,37 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
     BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
     if constexpr (!kTraceHooks<Tracer>) {
-        // Several threads: the same candidates in the same order (parallel_self_collide.hpp).
-        auto par = [&](auto make) { parallel_self_collide(bvh_, query_threads_, make, st, candidates_, parallel_); };
-        if (query_threads_ > 1 && method_ == Method::kAabb) {
-            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
-                return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-            });
-            return;
-        }
-        if (query_threads_ > 1 && method_ == Method::kNc) {
-            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
-                return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-            });
-            return;
+        // Several threads: the same candidates in the same order, and the same front
+        // (parallel_self_collide.hpp). A traced query stays serial (events in order).
+        if (query_threads_ > 1 && method_ != Method::kSct && method_ != Method::kCbc) {
+            auto par = [&](auto make, BvttFront* f) {
+                parallel_self_collide(bvh_, query_threads_, make, f, st, candidates_, parallel_);
+            };
+            switch (method_) {
+                case Method::kAabb:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                        return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+                    }, nullptr);
+                    return;
+                case Method::kNc:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                        return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+                    }, nullptr);
+                    return;
+                case Method::kAabbFront:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
+                        return SelfCollideTraversal<false, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
+                                                                                 s, out, &front, part);
+                    }, &front);
+                    return;
+                case Method::kNcFront:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
+                        return SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
+                                                                                s, out, &front, part);
+                    }, &front);
+                    return;
+                default: break;
+            }
         }
     }
     switch (method_) {

@@ -1,5 +1,5 @@
 // SelfCollide(root) on several threads, with exactly the serial traversal's candidates, in the
-// serial order, and its counters.
+// serial order, and its counters; for the front methods also exactly the serial BVTT front.
 //
 // Alg. 2 is a depth-first recursion whose output is the concatenation of its children's:
 // SelfCollide(N) = SelfCollide(L) + SelfCollide(R) + Collide(L, R), and Collide(A, B) likewise
@@ -7,8 +7,15 @@
 // and in place, into an ordered list of independent tasks (each step doing the cone / box test
 // the recursion would do there), until there are enough to keep every thread busy; the tasks
 // then run on any thread, each into its own buffer, and the buffers are concatenated in task
-// order. Counters are sums, kept per worker and added up. Methods with a BVTT front traverse
-// serially: their front is one array appended in traversal order (bvtt_front.hpp).
+// order. Counters are sums, kept per worker and added up.
+//
+// Alg. 4 (and the conventional front) has the same shape with FrontTracking(Front_N) in place
+// of Collide(L, R): it reads only Front_N of the previous query and writes only the new Front_N,
+// whose entries come out in traversal order after those of the nodes below N. So a task writes
+// its sub-segments into its own part, with begin[X] relative to that part; the parts are
+// concatenated in task order and begin[X] shifted by the part's offset: the same entries, in
+// the same layout, as the serial traversal. (A FrontTracking task is not split: its merges
+// join neighbouring entries of one sub-segment.)
 #pragma once
 
 #include <cstdint>
@@ -23,37 +30,60 @@ namespace conecull {
 struct ParallelTraversalScratch {
     std::vector<BvttTask> tasks, expanded;
     std::vector<std::vector<TrianglePair>> candidates;  // per task
+    std::vector<FrontPart> fronts;                      // per task (front methods)
     std::vector<DcdStats> stats;                        // per worker
 };
 
-// make(stats, candidates) constructs a SelfCollideTraversal (no front) writing to them.
+// make(stats, candidates, part) constructs a SelfCollideTraversal writing to them (and, with a
+// front, its sub-segments to part); front: the front of a front method, else null.
 template <class Make>
-void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, DcdStats& stats,
+void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFront* front, DcdStats& stats,
                            std::vector<TrianglePair>& candidates, ParallelTraversalScratch& s) {
     candidates.clear();
-    if (bvh.size() == 0) return;
-    std::vector<BvttTask>& tasks = s.tasks;
-    tasks.assign(1, BvttTask{0, -1});
-    {
-        auto top = make(stats, candidates);  // expand() emits nothing
-        const size_t enough = 16 * static_cast<size_t>(threads);
-        bool expandable = true;
-        while (expandable && tasks.size() < enough) {
-            s.expanded.clear();
-            expandable = false;
-            for (const BvttTask& t : tasks) expandable |= top.expand(t, s.expanded);
-            tasks.swap(s.expanded);
+    if (front) front->next.clear();
+    if (bvh.size() > 0) {
+        std::vector<BvttTask>& tasks = s.tasks;
+        tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
+        {
+            auto top = make(stats, candidates, nullptr);  // expand() emits nothing
+            const size_t enough = 16 * static_cast<size_t>(threads);
+            bool expandable = true;
+            while (expandable && tasks.size() < enough) {
+                s.expanded.clear();
+                expandable = false;
+                for (const BvttTask& t : tasks) expandable |= top.expand(t, s.expanded);
+                tasks.swap(s.expanded);
+            }
+        }
+        const size_t n = tasks.size();
+        if (s.candidates.size() < n) s.candidates.resize(n);
+        if (front && s.fronts.size() < n) s.fronts.resize(n);
+        s.stats.assign(threads, DcdStats{});
+        parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
+            s.candidates[k].clear();
+            FrontPart* part = nullptr;
+            if (front) {
+                part = &s.fronts[k];
+                part->clear();
+            }
+            make(s.stats[w], s.candidates[k], part).run_task(tasks[k]);
+        });
+        for (const DcdStats& w : s.stats) stats.add_traversal_counters(w);
+        concat_in_order(s.candidates, n, threads, candidates);
+        if (front) {
+            // The parts one after another, each Front_X it built moved by the part's offset.
+            std::vector<int64_t> offset(n + 1, 0);
+            for (size_t k = 0; k < n; ++k) offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].entries.size());
+            front->next.entries.resize(static_cast<size_t>(offset[n]));
+            FrontEntry* dst = front->next.entries.data();
+            parallel_chunks(static_cast<int64_t>(n), offset[n] < (1 << 16) ? 1 : threads, [&](int64_t k, int) {
+                const FrontPart& p = s.fronts[k];
+                std::copy(p.entries.begin(), p.entries.end(), dst + offset[k]);
+                for (int32_t x : p.nodes) front->begin[x] += offset[k];
+            });
         }
     }
-    const size_t n = tasks.size();
-    if (s.candidates.size() < n) s.candidates.resize(n);
-    s.stats.assign(threads, DcdStats{});
-    parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
-        s.candidates[k].clear();
-        make(s.stats[w], s.candidates[k]).run_task(tasks[k]);
-    });
-    for (const DcdStats& w : s.stats) stats.add_traversal_counters(w);
-    concat_in_order(s.candidates, n, threads, candidates);
+    if (front) front->finish_query(stats);
 }
 
 }  // namespace conecull
