@@ -171,7 +171,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
     st.elementary_tests = static_cast<int64_t>(candidates_.size());
-    std::sort(res.pairs.begin(), res.pairs.end());
+    parallel_sort(res.pairs, query_threads_);
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
 }
@@ -280,13 +280,22 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         return b;
     };
     const int threads = query_threads_;
-    vertex_boxes_.resize(topo_->n_vertices);
-    parallel_for(topo_->n_vertices, threads, 4096, [&](int64_t v) { vertex_boxes_[v] = swept({static_cast<int32_t>(v)}); });
-    edge_boxes_.resize(topo_->n_edges());
-    parallel_for(topo_->n_edges(), threads, 4096, [&](int64_t e) { edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]}); });
-    face_boxes_.resize(topo_->n_faces());
-    parallel_for(topo_->n_faces(), threads, 4096,
-                 [&](int64_t f) { face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]}); });
+    // The vertices', edges' and faces' boxes as one range: one parallel region.
+    const int64_t n_v = topo_->n_vertices, n_e = topo_->n_edges(), n_f = topo_->n_faces();
+    vertex_boxes_.resize(n_v);
+    edge_boxes_.resize(n_e);
+    face_boxes_.resize(n_f);
+    parallel_for(n_v + n_e + n_f, threads, 4096, [&](int64_t i) {
+        if (i < n_v) {
+            vertex_boxes_[i] = swept({static_cast<int32_t>(i)});
+        } else if (i < n_v + n_e) {
+            const int64_t e = i - n_v;
+            edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]});
+        } else {
+            const int64_t f = i - n_v - n_e;
+            face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]});
+        }
+    });
     // Each vertex and each edge is owned by one of its faces; a VF pair (v, f) is produced only
     // by the candidate pair (owner(v), f), an EE pair only by (owner(ea), owner(eb)). Every pair
     // is then produced at most once with no sorting, and none is lost: if v touches f, the
@@ -403,8 +412,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         e.interval_filtered += out.exact.interval_filtered;
         e.exact_engine += out.exact.exact_engine;
     }
-    std::sort(res.vf.begin(), res.vf.end());
-    std::sort(res.ee.begin(), res.ee.end());
+    parallel_sort(res.vf, threads);  // distinct pairs: std::sort's order (parallel.hpp)
+    parallel_sort(res.ee, threads);
     st.elementary_tests = st.vf_tests + st.ee_tests;
     st.vf_contacts = static_cast<int64_t>(res.vf.size());
     st.ee_contacts = static_cast<int64_t>(res.ee.size());

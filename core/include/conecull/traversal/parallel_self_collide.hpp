@@ -46,7 +46,9 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
         tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
         {
             auto top = make(stats, candidates, nullptr);  // expand() emits nothing
-            const size_t enough = 16 * static_cast<size_t>(threads);
+            // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
+            // traversal ends with its last task.
+            const size_t enough = 64 * static_cast<size_t>(threads);
             bool expandable = true;
             while (expandable && tasks.size() < enough) {
                 s.expanded.clear();
