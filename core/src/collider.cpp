@@ -156,7 +156,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
     const int32_t* F = topo_->faces.data();
     const Chunks ch(static_cast<int64_t>(candidates_.size()), query_threads_, 512);
-    std::vector<std::vector<TrianglePair>> hits(ch.count);
+    std::vector<Padded<std::vector<TrianglePair>>> hits(ch.count);
     parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
         for (int64_t i = ch.begin(k); i < ch.end(k); ++i) {
             const TrianglePair& c = candidates_[i];
@@ -166,7 +166,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
             const bool hit = triangles_collide(fp, P, fq, Q);
             if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
-            if (hit) hits[k].push_back(c);
+            if (hit) hits[k].value.push_back(c);
         }
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
@@ -335,9 +335,9 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
     // the serial order.
     const Chunks cand(static_cast<int64_t>(candidates_.size()), threads, 1024);
-    std::vector<std::vector<uint64_t>> vf_parts(cand.count), ee_parts(cand.count);
+    std::vector<Padded<std::vector<uint64_t>>> vf_parts(cand.count), ee_parts(cand.count);
     parallel_chunks(cand.count, threads, [&](int64_t k, int) {
-        for (int64_t i = cand.begin(k); i < cand.end(k); ++i) pairs_of(candidates_[i], vf_parts[k], ee_parts[k]);
+        for (int64_t i = cand.begin(k); i < cand.end(k); ++i) pairs_of(candidates_[i], vf_parts[k].value, ee_parts[k].value);
     });
     std::vector<uint64_t>& vf_keys = vf_keys_;
     std::vector<uint64_t>& ee_keys = ee_keys_;
@@ -350,7 +350,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     t0 = Clock::now();
     // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
     // counters (the exact-path counters are per thread: reset and read around each chunk).
-    struct ChunkOut {
+    struct alignas(64) ChunkOut {  // own cache lines: chunks side by side run on different threads
         std::vector<std::pair<int32_t, int32_t>> vf, ee;
         int64_t npf_culled = 0, vf_tests = 0, ee_tests = 0;
         ExactPathCounts exact;

@@ -155,15 +155,23 @@ void parallel_for(int64_t n, int threads, int64_t grain, const Body& body) {
     });
 }
 
+// A value on its own cache lines. Per-worker counters and per-chunk output vectors are written
+// all the time by different threads; side by side in an array, neighbours would share a line
+// and every increment or push_back would steal it from the other core (false sharing).
+template <class T>
+struct alignas(64) Padded {
+    T value;
+};
+
 // out = parts[0] + parts[1] + ... + parts[n_parts - 1], copied in parallel.
 template <class T>
-void concat_in_order(const std::vector<std::vector<T>>& parts, size_t n_parts, int threads, std::vector<T>& out) {
+void concat_in_order(const std::vector<Padded<std::vector<T>>>& parts, size_t n_parts, int threads, std::vector<T>& out) {
     std::vector<size_t> offset(n_parts + 1, 0);
-    for (size_t k = 0; k < n_parts; ++k) offset[k + 1] = offset[k] + parts[k].size();
+    for (size_t k = 0; k < n_parts; ++k) offset[k + 1] = offset[k] + parts[k].value.size();
     out.resize(offset[n_parts]);
     T* dst = out.data();
     parallel_chunks(static_cast<int64_t>(n_parts), offset[n_parts] < (1u << 16) ? 1 : threads, [&](int64_t k, int) {
-        std::copy(parts[k].begin(), parts[k].end(), dst + offset[k]);
+        std::copy(parts[k].value.begin(), parts[k].value.end(), dst + offset[k]);
     });
 }
 

@@ -29,9 +29,9 @@ namespace conecull {
 // Buffers reused between queries.
 struct ParallelTraversalScratch {
     std::vector<BvttTask> tasks, expanded;
-    std::vector<std::vector<TrianglePair>> candidates;  // per task
-    std::vector<FrontPart> fronts;                      // per task (front methods)
-    std::vector<DcdStats> stats;                        // per worker
+    std::vector<Padded<std::vector<TrianglePair>>> candidates;  // per task
+    std::vector<Padded<FrontPart>> fronts;                      // per task (front methods)
+    std::vector<Padded<DcdStats>> stats;                        // per worker
 };
 
 // make(stats, candidates, part) constructs a SelfCollideTraversal writing to them (and, with a
@@ -60,26 +60,26 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
         const size_t n = tasks.size();
         if (s.candidates.size() < n) s.candidates.resize(n);
         if (front && s.fronts.size() < n) s.fronts.resize(n);
-        s.stats.assign(threads, DcdStats{});
+        s.stats.assign(threads, Padded<DcdStats>{});
         parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
-            s.candidates[k].clear();
+            s.candidates[k].value.clear();
             FrontPart* part = nullptr;
             if (front) {
-                part = &s.fronts[k];
+                part = &s.fronts[k].value;
                 part->clear();
             }
-            make(s.stats[w], s.candidates[k], part).run_task(tasks[k]);
+            make(s.stats[w].value, s.candidates[k].value, part).run_task(tasks[k]);
         });
-        for (const DcdStats& w : s.stats) stats.add_traversal_counters(w);
+        for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);
         concat_in_order(s.candidates, n, threads, candidates);
         if (front) {
             // The parts one after another, each Front_X it built moved by the part's offset.
             std::vector<int64_t> offset(n + 1, 0);
-            for (size_t k = 0; k < n; ++k) offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].entries.size());
+            for (size_t k = 0; k < n; ++k) offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].value.entries.size());
             front->next.entries.resize(static_cast<size_t>(offset[n]));
             FrontEntry* dst = front->next.entries.data();
             parallel_chunks(static_cast<int64_t>(n), offset[n] < (1 << 16) ? 1 : threads, [&](int64_t k, int) {
-                const FrontPart& p = s.fronts[k];
+                const FrontPart& p = s.fronts[k].value;
                 std::copy(p.entries.begin(), p.entries.end(), dst + offset[k]);
                 for (int32_t x : p.nodes) front->begin[x] += offset[k];
             });
