@@ -75,12 +75,13 @@ template <class Tracer, class Motion>
 void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) {
     BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
+    candidate_list_.set(candidates_);  // unless the parallel traversal lists its own
     if constexpr (!kTraceHooks<Tracer>) {
         // Several threads: the same candidates in the same order, and the same front
         // (parallel_self_collide.hpp). A traced query stays serial (events in order).
         if (query_threads_ > 1 && method_ != Method::kSct && method_ != Method::kCbc) {
             auto par = [&](auto make, BvttFront* f) {
-                parallel_self_collide(bvh_, query_threads_, make, f, st, candidates_, parallel_);
+                parallel_self_collide(bvh_, query_threads_, make, f, st, candidate_list_, parallel_);
             };
             switch (method_) {
                 case Method::kAabb:
@@ -155,11 +156,11 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     t0 = Clock::now();
     // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
     const int32_t* F = topo_->faces.data();
-    const Chunks ch(static_cast<int64_t>(candidates_.size()), query_threads_, 512);
+    const CandidateList& candidates = candidate_list_;
+    const Chunks ch(candidates.size(), query_threads_, 512);
     std::vector<Padded<std::vector<TrianglePair>>> hits(ch.count);
     parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
-        for (int64_t i = ch.begin(k); i < ch.end(k); ++i) {
-            const TrianglePair& c = candidates_[i];
+        candidates.for_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
             const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
             const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
             const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
@@ -167,10 +168,10 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             const bool hit = triangles_collide(fp, P, fq, Q);
             if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
             if (hit) hits[k].value.push_back(c);
-        }
+        });
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
-    st.elementary_tests = static_cast<int64_t>(candidates_.size());
+    st.elementary_tests = candidates.size();
     parallel_sort(res.pairs, query_threads_);
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
@@ -334,10 +335,11 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     };
     // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
     // the serial order.
-    const Chunks cand(static_cast<int64_t>(candidates_.size()), threads, 1024);
+    const Chunks cand(candidate_list_.size(), threads, 1024);
     std::vector<Padded<std::vector<uint64_t>>> vf_parts(cand.count), ee_parts(cand.count);
     parallel_chunks(cand.count, threads, [&](int64_t k, int) {
-        for (int64_t i = cand.begin(k); i < cand.end(k); ++i) pairs_of(candidates_[i], vf_parts[k].value, ee_parts[k].value);
+        candidate_list_.for_range(cand.begin(k), cand.end(k),
+                                  [&](const TrianglePair& c) { pairs_of(c, vf_parts[k].value, ee_parts[k].value); });
     });
     std::vector<uint64_t>& vf_keys = vf_keys_;
     std::vector<uint64_t>& ee_keys = ee_keys_;

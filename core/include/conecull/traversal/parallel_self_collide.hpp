@@ -18,6 +18,7 @@
 // join neighbouring entries of one sub-segment.)
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +26,36 @@
 #include "conecull/traversal/self_collide.hpp"
 
 namespace conecull {
+
+// The candidates of a query, in traversal order: one array (serial traversal), or the parallel
+// traversal's per-task arrays one after another, read in place (copying them into one array
+// would cost a pass over all of them, ~4 MB for "aabb" on the 64K-triangle benchmark).
+struct CandidateList {
+    const std::vector<TrianglePair>* whole = nullptr;
+    const std::vector<Padded<std::vector<TrianglePair>>>* parts = nullptr;
+    std::vector<int64_t> offset{0};  // parts: part k holds the candidates [offset[k], offset[k + 1])
+
+    int64_t size() const { return whole ? static_cast<int64_t>(whole->size()) : offset.back(); }
+    // fn(pair) for the candidates [b, e), in order.
+    template <class Fn>
+    void for_range(int64_t b, int64_t e, const Fn& fn) const {
+        if (whole) {
+            for (int64_t i = b; i < e; ++i) fn((*whole)[i]);
+            return;
+        }
+        size_t k = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), b) - offset.begin()) - 1;
+        for (; b < e; ++k) {
+            const std::vector<TrianglePair>& p = (*parts)[k].value;
+            const int64_t hi = std::min(e, offset[k + 1]);
+            for (int64_t i = b - offset[k], end = hi - offset[k]; i < end; ++i) fn(p[i]);
+            b = hi;
+        }
+    }
+    void set(const std::vector<TrianglePair>& all) {
+        whole = &all;
+        parts = nullptr;
+    }
+};
 
 // Buffers reused between queries.
 struct ParallelTraversalScratch {
@@ -35,17 +66,21 @@ struct ParallelTraversalScratch {
 };
 
 // make(stats, candidates, part) constructs a SelfCollideTraversal writing to them (and, with a
-// front, its sub-segments to part); front: the front of a front method, else null.
+// front, its sub-segments to part); front: the front of a front method, else null. The
+// candidates are left in s, listed by `candidates`.
 template <class Make>
 void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFront* front, DcdStats& stats,
-                           std::vector<TrianglePair>& candidates, ParallelTraversalScratch& s) {
-    candidates.clear();
+                           CandidateList& candidates, ParallelTraversalScratch& s) {
+    candidates.whole = nullptr;
+    candidates.parts = &s.candidates;
+    candidates.offset.assign(1, 0);
+    std::vector<TrianglePair> none;  // the expansion emits no candidates
     if (front) front->next.clear();
     if (bvh.size() > 0) {
         std::vector<BvttTask>& tasks = s.tasks;
         tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
         {
-            auto top = make(stats, candidates, nullptr);  // expand() emits nothing
+            auto top = make(stats, none, nullptr);
             // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
             // traversal ends with its last task.
             const size_t enough = 64 * static_cast<size_t>(threads);
@@ -71,7 +106,9 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
             make(s.stats[w].value, s.candidates[k].value, part).run_task(tasks[k]);
         });
         for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);
-        concat_in_order(s.candidates, n, threads, candidates);
+        candidates.offset.resize(n + 1);
+        for (size_t k = 0; k < n; ++k)
+            candidates.offset[k + 1] = candidates.offset[k] + static_cast<int64_t>(s.candidates[k].value.size());
         if (front) {
             // The parts one after another, each Front_X it built moved by the part's offset.
             std::vector<int64_t> offset(n + 1, 0);
