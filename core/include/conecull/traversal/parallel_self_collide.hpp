@@ -60,6 +60,8 @@ struct CandidateList {
 // Buffers reused between queries.
 struct ParallelTraversalScratch {
     std::vector<BvttTask> tasks, expanded;
+    std::vector<std::vector<BvttTask>> expanded_of;  // per task of a level being expanded
+    std::vector<uint8_t> progressed;
     std::vector<Padded<std::vector<TrianglePair>>> candidates;  // per task
     std::vector<Padded<FrontPart>> fronts;                      // per task (front methods)
     std::vector<Padded<DcdStats>> stats;                        // per worker
@@ -79,23 +81,28 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
     if (bvh.size() > 0) {
         std::vector<BvttTask>& tasks = s.tasks;
         tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
-        {
-            auto top = make(stats, none, nullptr);
-            // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
-            // traversal ends with its last task.
-            const size_t enough = 64 * static_cast<size_t>(threads);
-            bool expandable = true;
-            while (expandable && tasks.size() < enough) {
-                s.expanded.clear();
-                expandable = false;
-                for (const BvttTask& t : tasks) expandable |= top.expand(t, s.expanded);
-                tasks.swap(s.expanded);
-            }
+        s.stats.assign(threads, Padded<DcdStats>{});
+        // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
+        // traversal ends with its last task. The levels are expanded in parallel too: their
+        // cone and contour tests (Alg. 2 lines 5-6) are on the largest nodes, with the longest
+        // contours.
+        const size_t enough = 64 * static_cast<size_t>(threads);
+        while (tasks.size() < enough) {
+            const size_t n = tasks.size();
+            if (s.expanded_of.size() < n) s.expanded_of.resize(n);
+            s.progressed.assign(n, 0);
+            parallel_chunks(static_cast<int64_t>(n), n < 4 ? 1 : threads, [&](int64_t k, int w) {
+                s.expanded_of[k].clear();
+                s.progressed[k] = make(s.stats[w].value, none, nullptr).expand(tasks[k], s.expanded_of[k]);
+            });
+            s.expanded.clear();
+            for (size_t k = 0; k < n; ++k) s.expanded.insert(s.expanded.end(), s.expanded_of[k].begin(), s.expanded_of[k].end());
+            tasks.swap(s.expanded);
+            if (std::find(s.progressed.begin(), s.progressed.begin() + n, 1) == s.progressed.begin() + n) break;
         }
         const size_t n = tasks.size();
         if (s.candidates.size() < n) s.candidates.resize(n);
         if (front && s.fronts.size() < n) s.fronts.resize(n);
-        s.stats.assign(threads, Padded<DcdStats>{});
         parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
             s.candidates[k].value.clear();
             FrontPart* part = nullptr;
