@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -29,6 +30,21 @@ inline int resolve_threads(int threads) {
     if (threads > 0) return threads;
     const unsigned hw = std::thread::hardware_concurrency();
     return hw > 0 ? static_cast<int>(hw) : 1;
+}
+
+// Busy-waits (with the CPU's spin-wait hint) until ready() or `limit` has passed; ready()'s value.
+template <class Ready>
+bool spin_until(const Ready& ready, std::chrono::microseconds limit) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 1;; ++i) {
+        if (ready()) return true;
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#elif defined(__aarch64__)
+        asm volatile("yield");
+#endif
+        if ((i & 63) == 0 && std::chrono::steady_clock::now() - t0 > limit) return ready();
+    }
 }
 
 class ThreadPool {
@@ -57,16 +73,29 @@ class ThreadPool {
             max_workers_ = n_workers;
             next_worker_ = 1;
             open_ = true;
-            ++region_;
+            region_.fetch_add(1, std::memory_order_release);  // seen by spinning helpers
         }
-        wake_.notify_all();
+        wake_.notify_all();  // and sleeping ones
         work(0);
-        std::unique_lock<std::mutex> lock(mutex_);
-        open_ = false;  // late helpers stay out
-        done_.wait(lock, [&] { return active_ == 0; });
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            open_ = false;  // late helpers stay out
+        }
+        // The helpers that joined are finishing their last chunk: wait for them spinning first.
+        if (!spin_until([&] { return active_.load(std::memory_order_acquire) == 0; }, kSpin)) {
+            std::unique_lock<std::mutex> lock(mutex_);
+            done_.wait(lock, [&] { return active_.load(std::memory_order_acquire) == 0; });
+        }
     }
 
    private:
+    // How long an idle helper spins before it sleeps. A query runs several regions separated by
+    // short serial steps, and waking a sleeping thread costs tens of microseconds, more in a VM
+    // whose idle vCPU halts (measured here: median 22 us after 1 ms asleep, 62 us after 10 ms,
+    // and ~30% of 0.6 ms regions ended before the helper arrived); a spinning helper joins
+    // within ~1 us. Spinning costs at most this much CPU after each region.
+    static constexpr std::chrono::microseconds kSpin{200};
+
     void grow(int helpers) {
         std::lock_guard<std::mutex> lock(mutex_);
         while (n_threads_ < helpers) {
@@ -83,27 +112,35 @@ class ThreadPool {
         uint64_t seen = 0;
         std::unique_lock<std::mutex> lock(mutex_);
         for (;;) {
-            wake_.wait(lock, [&] { return open_ && region_ != seen && next_worker_ < max_workers_; });
-            seen = region_;
+            if (region_.load(std::memory_order_relaxed) == seen) {
+                lock.unlock();
+                spin_until([&] { return region_.load(std::memory_order_acquire) != seen; }, kSpin);
+                lock.lock();
+                wake_.wait(lock, [&] { return region_.load(std::memory_order_relaxed) != seen; });
+            }
+            seen = region_.load(std::memory_order_relaxed);
+            if (!open_ || next_worker_ >= max_workers_) continue;  // closed or full: the next one
             const int w = next_worker_++;
-            ++active_;
+            active_.fetch_add(1, std::memory_order_relaxed);
             void (*fn)(const void*, int) = fn_;
             const void* ctx = ctx_;
             lock.unlock();
             fn(ctx, w);
             lock.lock();
-            if (--active_ == 0) done_.notify_all();
+            // Under the lock: a caller that saw active_ > 0 sleeps only once it holds it.
+            if (active_.fetch_sub(1, std::memory_order_acq_rel) == 1) done_.notify_all();
         }
     }
 
     std::mutex busy_;   // held by the caller of the current region
-    std::mutex mutex_;  // guards the fields below
+    std::mutex mutex_;  // guards the fields below (region_ and active_ are also read without it)
     std::condition_variable wake_, done_;
     void (*fn_)(const void*, int) = nullptr;
     const void* ctx_ = nullptr;
-    int max_workers_ = 0, next_worker_ = 0, active_ = 0, n_threads_ = 0;
+    int max_workers_ = 0, next_worker_ = 0, n_threads_ = 0;
+    std::atomic<int> active_{0};
     bool open_ = false;
-    uint64_t region_ = 0;
+    std::atomic<uint64_t> region_{0};
 };
 
 // Calls body(chunk, worker) once for every chunk in [0, n_chunks), on up to `threads` threads;
