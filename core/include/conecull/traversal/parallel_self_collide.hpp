@@ -62,6 +62,7 @@ struct ParallelTraversalScratch {
     std::vector<BvttTask> tasks, expanded;
     std::vector<std::vector<BvttTask>> expanded_of;  // per task of a level being expanded
     std::vector<uint8_t> progressed;
+    std::vector<int32_t> run_order;
     std::vector<Padded<std::vector<TrianglePair>>> candidates;  // per task
     std::vector<Padded<FrontPart>> fronts;                      // per task (front methods)
     std::vector<Padded<DcdStats>> stats;                        // per worker
@@ -103,7 +104,20 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
         const size_t n = tasks.size();
         if (s.candidates.size() < n) s.candidates.resize(n);
         if (front && s.fronts.size() < n) s.fronts.resize(n);
-        parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
+        // Run order (the output order stays the task order): FrontTracking tasks, which are not
+        // split, first and the top nodes' (the largest) first, so that no large task starts
+        // last while the other threads run out of work; then the others in order.
+        s.run_order.resize(n);
+        for (size_t k = 0; k < n; ++k) s.run_order[k] = static_cast<int32_t>(k);
+        if (front) {
+            std::stable_sort(s.run_order.begin(), s.run_order.end(), [&](int32_t p, int32_t q) {
+                const bool fp = tasks[p].b == BvttTask::kFrontTask, fq = tasks[q].b == BvttTask::kFrontTask;
+                if (fp != fq) return fp;
+                return fp && bvh[tasks[p].a].depth < bvh[tasks[q].a].depth;
+            });
+        }
+        parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t i, int w) {
+            const int32_t k = s.run_order[i];
             s.candidates[k].value.clear();
             FrontPart* part = nullptr;
             if (front) {
