@@ -18,6 +18,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <system_error>
 #include <thread>
@@ -146,6 +147,13 @@ class ThreadPool {
 // Calls body(chunk, worker) once for every chunk in [0, n_chunks), on up to `threads` threads;
 // worker ids are < threads. With one thread (or one chunk) the chunks run in order on the
 // caller. The first exception of any chunk is rethrown here.
+//
+// The chunks are cut into one block per worker; a worker takes the chunks of its own block in
+// order, then helps with the others'. Neighbouring chunks touch neighbouring data (subtrees of
+// the BVH, runs of candidates), which so stays in one core's cache: each core here has its own
+// 2 MB L2 and a miss costs ~150 ns: with the chunks handed out alternately, each of two
+// threads took ~1.5x as long for its half of the "aabb+front" traversal tasks as one thread
+// alone (measured on the 64K-triangle benchmark).
 template <class Body>
 void parallel_chunks(int64_t n_chunks, int threads, const Body& body) {
     const int n_workers = static_cast<int>(std::min<int64_t>(std::max(threads, 1), n_chunks));
@@ -153,14 +161,25 @@ void parallel_chunks(int64_t n_chunks, int threads, const Body& body) {
         for (int64_t c = 0; c < n_chunks; ++c) body(c, 0);
         return;
     }
-    std::atomic<int64_t> next{0};
+    struct alignas(64) Block {
+        std::atomic<int64_t> next{0};
+        int64_t end = 0;
+    };
+    std::unique_ptr<Block[]> blocks(new Block[n_workers]);
+    for (int w = 0; w < n_workers; ++w) {
+        blocks[w].next.store(n_chunks * w / n_workers, std::memory_order_relaxed);
+        blocks[w].end = n_chunks * (w + 1) / n_workers;
+    }
     std::vector<std::exception_ptr> errors(n_workers);
     ThreadPool::instance().run(n_workers, [&](int w) {
         try {
-            for (int64_t c; (c = next.fetch_add(1, std::memory_order_relaxed)) < n_chunks;) body(c, w);
+            for (int j = 0; j < n_workers; ++j) {
+                Block& b = blocks[(w + j) % n_workers];
+                for (int64_t c; (c = b.next.fetch_add(1, std::memory_order_relaxed)) < b.end;) body(c, w);
+            }
         } catch (...) {
             errors[w] = std::current_exception();
-            next.store(n_chunks);  // the others stop after their current chunk
+            for (int k = 0; k < n_workers; ++k) blocks[k].next.store(blocks[k].end);  // the others stop soon
         }
     });
     for (const std::exception_ptr& e : errors)
