@@ -249,35 +249,26 @@ Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size) {
 
 namespace {
 
-// Bottom-up refit shared by boxes and cones, DCD and CCD: a leaf combines the values of its
-// triangles (in leaf order), an inner node those of its two children. Children follow their
+// Bottom-up refit shared by boxes and cones, DCD and CCD: node(i) computes node i, a leaf from
+// its triangles (in leaf order), an inner node from its two children. Children follow their
 // parent in pre-order, so one reverse sweep suffices. With threads, the subtrees below a cut
 // near the root (each a contiguous range of the pre-order) are swept in parallel, then the few
 // nodes above the cut: every node gets the same value from the same children, so the result
 // does not depend on the thread count.
-template <class T, class TriangleValue, class Combine>
-void refit(const Bvh& bvh, std::vector<T>& out, TriangleValue triangle_value, Combine combine, int threads) {
-    out.resize(bvh.nodes.size());
+template <class Node>
+void refit(const Bvh& bvh, const Node& node, int threads) {
     auto sweep = [&](int32_t begin, int32_t end) {  // the nodes [begin, end), children first
-        for (int32_t i = end - 1; i >= begin; --i) {
-            const BvhNode& n = bvh.nodes[i];
-            if (n.is_leaf()) {
-                T v = triangle_value(bvh.order[n.begin]);
-                for (int32_t k = n.begin + 1; k < n.end; ++k) v = combine(v, triangle_value(bvh.order[k]));
-                out[i] = v;
-            } else {
-                out[i] = combine(out[Bvh::left(i)], out[n.right]);
-            }
-        }
+        for (int32_t i = end - 1; i >= begin; --i) node(i);
     };
     if (threads <= 1 || bvh.size() < 4096) {
         sweep(0, bvh.size());
         return;
     }
-    // The cut: split the largest subtree (node, end of its range) until there are enough.
+    // The cut: split every subtree of >= 64 nodes until there are enough (64 per thread: the
+    // subtrees are uneven, and a late helper or a busy core only takes fewer of them).
     std::vector<std::pair<int32_t, int32_t>> cut{{0, bvh.size()}}, next;
     std::vector<int32_t> above;  // in pre-order
-    while (cut.size() < 16 * static_cast<size_t>(threads)) {
+    while (cut.size() < 64 * static_cast<size_t>(threads)) {
         next.clear();
         bool split = false;
         for (const auto& [i, end] : cut) {
@@ -296,47 +287,71 @@ void refit(const Bvh& bvh, std::vector<T>& out, TriangleValue triangle_value, Co
     }
     parallel_chunks(static_cast<int64_t>(cut.size()), threads, [&](int64_t k, int) { sweep(cut[k].first, cut[k].second); });
     std::sort(above.begin(), above.end());
-    for (auto it = above.rbegin(); it != above.rend(); ++it) {
-        const int32_t i = *it;
-        out[i] = combine(out[Bvh::left(i)], out[bvh.nodes[i].right]);
-    }
-}
-
-void store_boxes(Bvh& bvh, const std::vector<Aabb>& boxes) {
-    for (size_t i = 0; i < boxes.size(); ++i) bvh.nodes[i].box = boxes[i];
+    for (auto it = above.rbegin(); it != above.rend(); ++it) node(*it);
 }
 
 const int32_t* face(const Topology& topo, int32_t f) { return &topo.faces[3 * static_cast<size_t>(f)]; }
 
+// Boxes written in place into the nodes (no copy, no per-query buffer), and with cones the two
+// in one sweep: one parallel region, each triangle's vertices loaded once.
+// leaf(f, box, cone) gives triangle f's box (and cone if kCones).
+template <bool kCones, class Leaf>
+void refit_nodes(Bvh& bvh, std::vector<NormalCone>* cones, const Leaf& leaf, int threads) {
+    if constexpr (kCones) cones->resize(bvh.nodes.size());
+    BvhNode* nodes = bvh.nodes.data();
+    const int32_t* order = bvh.order.data();
+    NormalCone* cone = kCones ? cones->data() : nullptr;
+    refit(bvh, [&](int32_t i) {
+        BvhNode& n = nodes[i];
+        if (n.is_leaf()) {
+            NormalCone c;
+            leaf(order[n.begin], n.box, c);
+            for (int32_t k = n.begin + 1; k < n.end; ++k) {
+                Aabb b;
+                NormalCone ck;
+                leaf(order[k], b, ck);
+                n.box = unite(n.box, b);
+                if constexpr (kCones) c = merge(c, ck);
+            }
+            if constexpr (kCones) cone[i] = c;
+        } else {
+            n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
+            if constexpr (kCones) cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
+        }
+    }, threads);
+}
+
 }  // namespace
 
 void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads) {
-    std::vector<Aabb> boxes;
-    refit(bvh, boxes, [&](int32_t f) { return triangle_box(topo, V, f); }, unite, threads);
-    store_boxes(bvh, boxes);
+    refit_nodes<false>(bvh, nullptr, [&](int32_t f, Aabb& b, NormalCone&) { b = triangle_box(topo, V, f); }, threads);
 }
 
-void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones, int threads) {
-    refit(bvh, cones, [&](int32_t f) {
+void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
+                           int threads) {
+    refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
         const int32_t* t = face(topo, f);
-        return triangle_cone(load(V, t[0]), load(V, t[1]), load(V, t[2]));
-    }, merge, threads);
+        const Vec3 p = load(V, t[0]), q = load(V, t[1]), r = load(V, t[2]);
+        b = {{std::min({p.x, q.x, r.x}), std::min({p.y, q.y, r.y}), std::min({p.z, q.z, r.z})},
+             {std::max({p.x, q.x, r.x}), std::max({p.y, q.y, r.y}), std::max({p.z, q.z, r.z})}};
+        c = triangle_cone(p, q, r);
+    }, threads);
 }
 
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads) {
-    std::vector<Aabb> boxes;
-    refit(bvh, boxes, [&](int32_t f) { return unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f)); }, unite,
-          threads);
-    store_boxes(bvh, boxes);
+    refit_nodes<false>(bvh, nullptr, [&](int32_t f, Aabb& b, NormalCone&) {
+        b = unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f));
+    }, threads);
 }
 
-void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
-                     std::vector<NormalCone>& cones, int threads) {
-    refit(bvh, cones, [&](int32_t f) {
+void refit_boxes_and_cones_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
+                               std::vector<NormalCone>& cones, int threads) {
+    refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
         const int32_t* t = face(topo, f);
-        return triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]), load(V1, t[1]),
-                                 load(V1, t[2]));
-    }, merge, threads);
+        b = unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f));
+        c = triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]), load(V1, t[1]),
+                              load(V1, t[2]));
+    }, threads);
 }
 
 }  // namespace conecull

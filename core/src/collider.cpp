@@ -75,20 +75,39 @@ template <class Tracer, class Motion>
 void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) {
     BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
+    candidate_list_.set(candidates_);  // unless the parallel traversal lists its own
     if constexpr (!kTraceHooks<Tracer>) {
-        // Several threads: the same candidates in the same order (parallel_self_collide.hpp).
-        auto par = [&](auto make) { parallel_self_collide(bvh_, query_threads_, make, st, candidates_, parallel_); };
-        if (query_threads_ > 1 && method_ == Method::kAabb) {
-            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
-                return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-            });
-            return;
-        }
-        if (query_threads_ > 1 && method_ == Method::kNc) {
-            par([&](DcdStats& s, std::vector<TrianglePair>& out) {
-                return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-            });
-            return;
+        // Several threads: the same candidates in the same order, and the same front
+        // (parallel_self_collide.hpp). A traced query stays serial (events in order).
+        if (query_threads_ > 1 && method_ != Method::kSct && method_ != Method::kCbc) {
+            auto par = [&](auto make, BvttFront* f) {
+                parallel_self_collide(bvh_, query_threads_, make, f, st, candidate_list_, parallel_);
+            };
+            switch (method_) {
+                case Method::kAabb:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                        return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+                    }, nullptr);
+                    return;
+                case Method::kNc:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                        return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
+                    }, nullptr);
+                    return;
+                case Method::kAabbFront:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
+                        return SelfCollideTraversal<false, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
+                                                                                 s, out, &front, part);
+                    }, &front);
+                    return;
+                case Method::kNcFront:
+                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
+                        return SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
+                                                                                s, out, &front, part);
+                    }, &front);
+                    return;
+                default: break;
+            }
         }
     }
     switch (method_) {
@@ -137,23 +156,23 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     t0 = Clock::now();
     // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
     const int32_t* F = topo_->faces.data();
-    const Chunks ch(static_cast<int64_t>(candidates_.size()), query_threads_, 512);
-    std::vector<std::vector<TrianglePair>> hits(ch.count);
+    const CandidateList& candidates = candidate_list_;
+    const Chunks ch(candidates.size(), query_threads_, 512);
+    std::vector<Padded<std::vector<TrianglePair>>> hits(ch.count);
     parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
-        for (int64_t i = ch.begin(k); i < ch.end(k); ++i) {
-            const TrianglePair& c = candidates_[i];
+        candidates.for_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
             const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
             const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
             const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
             const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
             const bool hit = triangles_collide(fp, P, fq, Q);
             if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
-            if (hit) hits[k].push_back(c);
-        }
+            if (hit) hits[k].value.push_back(c);
+        });
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
-    st.elementary_tests = static_cast<int64_t>(candidates_.size());
-    std::sort(res.pairs.begin(), res.pairs.end());
+    st.elementary_tests = candidates.size();
+    parallel_sort(res.pairs, query_threads_);
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
 }
@@ -162,9 +181,11 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     DcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
-    if (!built_) build(V);
-    else refit_boxes(bvh_, *topo_, V, query_threads_);
-    if (uses_cones(method_)) refit_cones(bvh_, *topo_, V, cones_, query_threads_);
+    const bool fresh = !built_;
+    if (fresh) build(V);  // boxes fit to V
+    // Boxes and cones in one sweep (bvh.cpp); refitting a fresh BVH's boxes gives them again.
+    if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
+    else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
     return res;
@@ -209,8 +230,8 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
     if (!built_) build(V0);
-    refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
-    if (uses_cones(method_)) refit_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
+    if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
+    else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
     with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
     if (want_toi) {
@@ -260,13 +281,22 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         return b;
     };
     const int threads = query_threads_;
-    vertex_boxes_.resize(topo_->n_vertices);
-    parallel_for(topo_->n_vertices, threads, 4096, [&](int64_t v) { vertex_boxes_[v] = swept({static_cast<int32_t>(v)}); });
-    edge_boxes_.resize(topo_->n_edges());
-    parallel_for(topo_->n_edges(), threads, 4096, [&](int64_t e) { edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]}); });
-    face_boxes_.resize(topo_->n_faces());
-    parallel_for(topo_->n_faces(), threads, 4096,
-                 [&](int64_t f) { face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]}); });
+    // The vertices', edges' and faces' boxes as one range: one parallel region.
+    const int64_t n_v = topo_->n_vertices, n_e = topo_->n_edges(), n_f = topo_->n_faces();
+    vertex_boxes_.resize(n_v);
+    edge_boxes_.resize(n_e);
+    face_boxes_.resize(n_f);
+    parallel_for(n_v + n_e + n_f, threads, 4096, [&](int64_t i) {
+        if (i < n_v) {
+            vertex_boxes_[i] = swept({static_cast<int32_t>(i)});
+        } else if (i < n_v + n_e) {
+            const int64_t e = i - n_v;
+            edge_boxes_[e] = swept({Ed[2 * e], Ed[2 * e + 1]});
+        } else {
+            const int64_t f = i - n_v - n_e;
+            face_boxes_[f] = swept({F[3 * f], F[3 * f + 1], F[3 * f + 2]});
+        }
+    });
     // Each vertex and each edge is owned by one of its faces; a VF pair (v, f) is produced only
     // by the candidate pair (owner(v), f), an EE pair only by (owner(ea), owner(eb)). Every pair
     // is then produced at most once with no sorting, and none is lost: if v touches f, the
@@ -305,10 +335,11 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     };
     // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
     // the serial order.
-    const Chunks cand(static_cast<int64_t>(candidates_.size()), threads, 1024);
-    std::vector<std::vector<uint64_t>> vf_parts(cand.count), ee_parts(cand.count);
+    const Chunks cand(candidate_list_.size(), threads, 1024);
+    std::vector<Padded<std::vector<uint64_t>>> vf_parts(cand.count), ee_parts(cand.count);
     parallel_chunks(cand.count, threads, [&](int64_t k, int) {
-        for (int64_t i = cand.begin(k); i < cand.end(k); ++i) pairs_of(candidates_[i], vf_parts[k], ee_parts[k]);
+        candidate_list_.for_range(cand.begin(k), cand.end(k),
+                                  [&](const TrianglePair& c) { pairs_of(c, vf_parts[k].value, ee_parts[k].value); });
     });
     std::vector<uint64_t>& vf_keys = vf_keys_;
     std::vector<uint64_t>& ee_keys = ee_keys_;
@@ -321,7 +352,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     t0 = Clock::now();
     // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
     // counters (the exact-path counters are per thread: reset and read around each chunk).
-    struct ChunkOut {
+    struct alignas(64) ChunkOut {  // own cache lines: chunks side by side run on different threads
         std::vector<std::pair<int32_t, int32_t>> vf, ee;
         int64_t npf_culled = 0, vf_tests = 0, ee_tests = 0;
         ExactPathCounts exact;
@@ -383,8 +414,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         e.interval_filtered += out.exact.interval_filtered;
         e.exact_engine += out.exact.exact_engine;
     }
-    std::sort(res.vf.begin(), res.vf.end());
-    std::sort(res.ee.begin(), res.ee.end());
+    parallel_sort(res.vf, threads);  // distinct pairs: std::sort's order (parallel.hpp)
+    parallel_sort(res.ee, threads);
     st.elementary_tests = st.vf_tests + st.ee_tests;
     st.vf_contacts = static_cast<int64_t>(res.vf.size());
     st.ee_contacts = static_cast<int64_t>(res.ee.size());

@@ -104,6 +104,7 @@ class SelfCollider {
     // (Sharing would still be exact: any cut is; see bvtt_front.hpp.)
     BvttFront dcd_front_, ccd_front_;
     std::vector<TrianglePair> candidates_;  // reused between queries
+    CandidateList candidate_list_;          // the query's candidates: candidates_ or the parallel traversal's
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives
     std::vector<uint64_t> vf_keys_, ee_keys_;
     std::vector<int32_t> vertex_owner_, edge_owner_;  // CCD: the face that produces a vertex's / edge's pairs

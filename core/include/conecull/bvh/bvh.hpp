@@ -51,15 +51,15 @@ Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size);
 // number of threads.
 void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads = 1);
 
-// Normal cones for every node from positions V: leaves merge their triangles' cones, inner
-// nodes their children's.
-void refit_cones(const Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
-                 int threads = 1);
+// Boxes and normal cones for every node from positions V, in one sweep: leaves merge their
+// triangles' cones, inner nodes their children's.
+void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
+                           int threads = 1);
 
 // CCD: swept boxes (the box of both poses holds every linear motion between them) and cones
 // holding every triangle's normal for all t in [0, 1].
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads = 1);
-void refit_cones_ccd(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
-                     std::vector<NormalCone>& cones, int threads = 1);
+void refit_boxes_and_cones_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
+                               std::vector<NormalCone>& cones, int threads = 1);
 
 }  // namespace conecull

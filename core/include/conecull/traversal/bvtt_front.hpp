@@ -14,12 +14,25 @@
 #include <vector>
 
 #include "conecull/bvh/bvh.hpp"
+#include "conecull/traversal/stats.hpp"
 
 namespace conecull {
 
 // A BVTT node A * B: BVH nodes with disjoint triangle sets (A under X->left, B under X->right).
 struct FrontEntry {
     int32_t a, b;
+};
+
+// Sub-segments built one after another (by a query, or by one task of the parallel traversal).
+struct FrontPart {
+    std::vector<FrontEntry> entries;
+    std::vector<uint8_t> mergeable;
+    std::vector<int32_t> nodes;  // parallel traversal only: X with begin[X] into `entries`
+    void clear() {
+        entries.clear();
+        mergeable.clear();
+        nodes.clear();
+    }
 };
 
 struct BvttFront {
@@ -33,11 +46,11 @@ struct BvttFront {
     std::vector<uint64_t> tracked;
     uint64_t query = 0;  // queries answered with this front (so 0: never tracked)
 
-    // Being built by the current query: the new sub-segments, and per entry whether it may
-    // merge with a sibling (its boxes are apart and it was not just made by descending a
-    // parent whose boxes overlap).
-    std::vector<FrontEntry> next;
-    std::vector<uint8_t> mergeable;
+    // Being built by the current query: the new sub-segments (their entries, and per entry
+    // whether it may merge with a sibling: its boxes are apart and it was not just made by
+    // descending a parent whose boxes overlap). The parallel traversal builds one such part per
+    // task (`nodes`: the X whose begin[X] is relative to the part) and concatenates them here.
+    FrontPart next;
 
     void reset(const Bvh& bvh) {
         entries.clear();
@@ -45,6 +58,16 @@ struct BvttFront {
         count.assign(bvh.nodes.size(), 0);
         tracked.assign(bvh.nodes.size(), 0);
         query = 0;
+    }
+
+    // End of a query, `next` built and stats.front_added summed: the new front replaces the old.
+    void finish_query(DcdStats& stats) {
+        const auto kept = static_cast<int64_t>(next.entries.size());
+        stats.front_removed = static_cast<int64_t>(entries.size()) + stats.front_added - kept;
+        entries.swap(next.entries);
+        ++query;
+        stats.front_entries = kept;
+        stats.front_bytes = kept * static_cast<int64_t>(sizeof(FrontEntry));
     }
 
     bool is_tracked(int32_t x) const { return query > 0 && tracked[x] == query; }

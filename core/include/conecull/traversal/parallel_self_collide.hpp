@@ -1,5 +1,5 @@
 // SelfCollide(root) on several threads, with exactly the serial traversal's candidates, in the
-// serial order, and its counters.
+// serial order, and its counters; for the front methods also exactly the serial BVTT front.
 //
 // Alg. 2 is a depth-first recursion whose output is the concatenation of its children's:
 // SelfCollide(N) = SelfCollide(L) + SelfCollide(R) + Collide(L, R), and Collide(A, B) likewise
@@ -7,10 +7,18 @@
 // and in place, into an ordered list of independent tasks (each step doing the cone / box test
 // the recursion would do there), until there are enough to keep every thread busy; the tasks
 // then run on any thread, each into its own buffer, and the buffers are concatenated in task
-// order. Counters are sums, kept per worker and added up. Methods with a BVTT front traverse
-// serially: their front is one array appended in traversal order (bvtt_front.hpp).
+// order. Counters are sums, kept per worker and added up.
+//
+// Alg. 4 (and the conventional front) has the same shape with FrontTracking(Front_N) in place
+// of Collide(L, R): it reads only Front_N of the previous query and writes only the new Front_N,
+// whose entries come out in traversal order after those of the nodes below N. So a task writes
+// its sub-segments into its own part, with begin[X] relative to that part; the parts are
+// concatenated in task order and begin[X] shifted by the part's offset: the same entries, in
+// the same layout, as the serial traversal. (A FrontTracking task is not split: its merges
+// join neighbouring entries of one sub-segment.)
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -19,41 +27,123 @@
 
 namespace conecull {
 
+// The candidates of a query, in traversal order: one array (serial traversal), or the parallel
+// traversal's per-task arrays one after another, read in place (copying them into one array
+// would cost a pass over all of them, ~4 MB for "aabb" on the 64K-triangle benchmark).
+struct CandidateList {
+    const std::vector<TrianglePair>* whole = nullptr;
+    const std::vector<Padded<std::vector<TrianglePair>>>* parts = nullptr;
+    std::vector<int64_t> offset{0};  // parts: part k holds the candidates [offset[k], offset[k + 1])
+
+    int64_t size() const { return whole ? static_cast<int64_t>(whole->size()) : offset.back(); }
+    // fn(pair) for the candidates [b, e), in order.
+    template <class Fn>
+    void for_range(int64_t b, int64_t e, const Fn& fn) const {
+        if (whole) {
+            for (int64_t i = b; i < e; ++i) fn((*whole)[i]);
+            return;
+        }
+        size_t k = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), b) - offset.begin()) - 1;
+        for (; b < e; ++k) {
+            const std::vector<TrianglePair>& p = (*parts)[k].value;
+            const int64_t hi = std::min(e, offset[k + 1]);
+            for (int64_t i = b - offset[k], end = hi - offset[k]; i < end; ++i) fn(p[i]);
+            b = hi;
+        }
+    }
+    void set(const std::vector<TrianglePair>& all) {
+        whole = &all;
+        parts = nullptr;
+    }
+};
+
 // Buffers reused between queries.
 struct ParallelTraversalScratch {
     std::vector<BvttTask> tasks, expanded;
-    std::vector<std::vector<TrianglePair>> candidates;  // per task
-    std::vector<DcdStats> stats;                        // per worker
+    std::vector<std::vector<BvttTask>> expanded_of;  // per task of a level being expanded
+    std::vector<uint8_t> progressed;
+    std::vector<int32_t> run_order;
+    std::vector<Padded<std::vector<TrianglePair>>> candidates;  // per task
+    std::vector<Padded<FrontPart>> fronts;                      // per task (front methods)
+    std::vector<Padded<DcdStats>> stats;                        // per worker
 };
 
-// make(stats, candidates) constructs a SelfCollideTraversal (no front) writing to them.
+// make(stats, candidates, part) constructs a SelfCollideTraversal writing to them (and, with a
+// front, its sub-segments to part); front: the front of a front method, else null. The
+// candidates are left in s, listed by `candidates`.
 template <class Make>
-void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, DcdStats& stats,
-                           std::vector<TrianglePair>& candidates, ParallelTraversalScratch& s) {
-    candidates.clear();
-    if (bvh.size() == 0) return;
-    std::vector<BvttTask>& tasks = s.tasks;
-    tasks.assign(1, BvttTask{0, -1});
-    {
-        auto top = make(stats, candidates);  // expand() emits nothing
-        const size_t enough = 16 * static_cast<size_t>(threads);
-        bool expandable = true;
-        while (expandable && tasks.size() < enough) {
+void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFront* front, DcdStats& stats,
+                           CandidateList& candidates, ParallelTraversalScratch& s) {
+    candidates.whole = nullptr;
+    candidates.parts = &s.candidates;
+    candidates.offset.assign(1, 0);
+    std::vector<TrianglePair> none;  // the expansion emits no candidates
+    if (front) front->next.clear();
+    if (bvh.size() > 0) {
+        std::vector<BvttTask>& tasks = s.tasks;
+        tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
+        s.stats.assign(threads, Padded<DcdStats>{});
+        // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
+        // traversal ends with its last task. The levels are expanded in parallel too: their
+        // cone and contour tests (Alg. 2 lines 5-6) are on the largest nodes, with the longest
+        // contours.
+        const size_t enough = 64 * static_cast<size_t>(threads);
+        while (tasks.size() < enough) {
+            const size_t n = tasks.size();
+            if (s.expanded_of.size() < n) s.expanded_of.resize(n);
+            s.progressed.assign(n, 0);
+            parallel_chunks(static_cast<int64_t>(n), n < 4 ? 1 : threads, [&](int64_t k, int w) {
+                s.expanded_of[k].clear();
+                s.progressed[k] = make(s.stats[w].value, none, nullptr).expand(tasks[k], s.expanded_of[k]);
+            });
             s.expanded.clear();
-            expandable = false;
-            for (const BvttTask& t : tasks) expandable |= top.expand(t, s.expanded);
+            for (size_t k = 0; k < n; ++k) s.expanded.insert(s.expanded.end(), s.expanded_of[k].begin(), s.expanded_of[k].end());
             tasks.swap(s.expanded);
+            if (std::find(s.progressed.begin(), s.progressed.begin() + n, 1) == s.progressed.begin() + n) break;
+        }
+        const size_t n = tasks.size();
+        if (s.candidates.size() < n) s.candidates.resize(n);
+        if (front && s.fronts.size() < n) s.fronts.resize(n);
+        // Run order (the output order stays the task order): FrontTracking tasks, which are not
+        // split, first and the top nodes' (the largest) first, so that no large task starts
+        // last while the other threads run out of work; then the others in order.
+        s.run_order.resize(n);
+        for (size_t k = 0; k < n; ++k) s.run_order[k] = static_cast<int32_t>(k);
+        if (front) {
+            std::stable_sort(s.run_order.begin(), s.run_order.end(), [&](int32_t p, int32_t q) {
+                const bool fp = tasks[p].b == BvttTask::kFrontTask, fq = tasks[q].b == BvttTask::kFrontTask;
+                if (fp != fq) return fp;
+                return fp && bvh[tasks[p].a].depth < bvh[tasks[q].a].depth;
+            });
+        }
+        parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t i, int w) {
+            const int32_t k = s.run_order[i];
+            s.candidates[k].value.clear();
+            FrontPart* part = nullptr;
+            if (front) {
+                part = &s.fronts[k].value;
+                part->clear();
+            }
+            make(s.stats[w].value, s.candidates[k].value, part).run_task(tasks[k]);
+        });
+        for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);
+        candidates.offset.resize(n + 1);
+        for (size_t k = 0; k < n; ++k)
+            candidates.offset[k + 1] = candidates.offset[k] + static_cast<int64_t>(s.candidates[k].value.size());
+        if (front) {
+            // The parts one after another, each Front_X it built moved by the part's offset.
+            std::vector<int64_t> offset(n + 1, 0);
+            for (size_t k = 0; k < n; ++k) offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].value.entries.size());
+            front->next.entries.resize(static_cast<size_t>(offset[n]));
+            FrontEntry* dst = front->next.entries.data();
+            parallel_chunks(static_cast<int64_t>(n), offset[n] < (1 << 16) ? 1 : threads, [&](int64_t k, int) {
+                const FrontPart& p = s.fronts[k].value;
+                std::copy(p.entries.begin(), p.entries.end(), dst + offset[k]);
+                for (int32_t x : p.nodes) front->begin[x] += offset[k];
+            });
         }
     }
-    const size_t n = tasks.size();
-    if (s.candidates.size() < n) s.candidates.resize(n);
-    s.stats.assign(threads, DcdStats{});
-    parallel_chunks(static_cast<int64_t>(n), threads, [&](int64_t k, int w) {
-        s.candidates[k].clear();
-        make(s.stats[w], s.candidates[k]).run_task(tasks[k]);
-    });
-    for (const DcdStats& w : s.stats) stats.add_traversal_counters(w);
-    concat_in_order(s.candidates, n, threads, candidates);
+    if (front) front->finish_query(stats);
 }
 
 }  // namespace conecull

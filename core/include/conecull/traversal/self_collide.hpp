@@ -26,8 +26,10 @@ namespace conecull {
 
 using TrianglePair = std::pair<int32_t, int32_t>;
 
-// A task of the parallel traversal: SelfCollide(a) if b < 0, else Collide(a, b).
+// A task of the parallel traversal: SelfCollide(a) if b == kSelfTask, FrontTracking(Front_a)
+// if b == kFrontTask (front methods), else Collide(a, b).
 struct BvttTask {
+    static constexpr int32_t kSelfTask = -1, kFrontTask = -2;
     int32_t a, b;
 };
 
@@ -77,41 +79,34 @@ struct ContinuousQuadratic {
 };
 
 // kTrackFront: Collide(L, R) of every node is resumed from the node's BVTT front sub-segment
-// (Alg. 4), kept in `front` between queries.
+// (Alg. 4), kept in `front` between queries. The new sub-segments go to `part` (a task's own,
+// parallel traversal) or else to front->next.
 template <bool kUseCones, class Tracer, class Motion = Discrete, bool kTrackFront = false>
 class SelfCollideTraversal {
    public:
     SelfCollideTraversal(const Bvh& bvh, const Contours& contours, const std::vector<NormalCone>& cones,
                          const Motion& motion, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates,
-                         BvttFront* front = nullptr)
+                         BvttFront* front = nullptr, FrontPart* part = nullptr)
         : bvh_(bvh), contours_(contours), cones_(cones), motion_(motion), tracer_(tracer), stats_(stats), out_(candidates),
-          front_(front) {}
+          front_(front), part_(part ? part : front ? &front->next : nullptr), rebase_(part != nullptr) {}
 
     void run() {
-        if constexpr (kTrackFront) {
-            front_->next.clear();
-            front_->mergeable.clear();
-        }
+        if constexpr (kTrackFront) part_->clear();
         if (bvh_.size() > 0) self_collide(0);
-        if constexpr (kTrackFront) {
-            BvttFront& f = *front_;
-            const auto kept = static_cast<int64_t>(f.next.size());
-            stats_.front_removed = static_cast<int64_t>(f.entries.size()) + stats_.front_added - kept;
-            f.entries.swap(f.next);
-            ++f.query;
-            stats_.front_entries = kept;
-            stats_.front_bytes = kept * static_cast<int64_t>(sizeof(FrontEntry));
-        }
+        if constexpr (kTrackFront) front_->finish_query(stats_);
     }
 
-    // Parallel traversal (parallel_self_collide.hpp), methods without a front: the top of the
-    // BVTT becomes an ordered list of independent tasks, SelfCollide(a) (b < 0) or Collide(a, b).
-    // expand does a task's first step (the counters and tests SelfCollide / Collide would do
-    // there) and appends its subtasks in the order they would run: concatenated in that order,
-    // their candidates are the task's. Tasks at the leaves are kept whole (false: nothing done).
+    // Parallel traversal (parallel_self_collide.hpp): the top of the BVTT becomes an ordered
+    // list of independent tasks. expand does a task's first step (the counters and tests
+    // SelfCollide / Collide would do there) and appends its subtasks in the order they would
+    // run: concatenated in that order, their candidates (and front sub-segments) are the task's.
+    // Tasks at the leaves, and FrontTracking tasks, are kept whole (false: nothing done).
     bool expand(BvttTask t, std::vector<BvttTask>& out) {
-        static_assert(!kTrackFront, "front methods traverse serially");
-        if (t.b < 0) {
+        if (t.b == BvttTask::kFrontTask) {
+            out.push_back(t);
+            return false;
+        }
+        if (t.b == BvttTask::kSelfTask) {
             const BvhNode& n = bvh_[t.a];
             if (n.end - n.begin < 2) return true;
             if (n.is_leaf()) {
@@ -123,7 +118,12 @@ class SelfCollideTraversal {
                 if (is_self_collision_free(t.a)) return true;
             }
             const int32_t l = Bvh::left(t.a), r = n.right;
-            out.insert(out.end(), {{l, -1}, {r, -1}, {l, r}});
+            // Alg. 2 lines 11-13 / Alg. 4 lines 11-13, as self_collide.
+            if constexpr (kTrackFront) {
+                out.insert(out.end(), {{l, BvttTask::kSelfTask}, {r, BvttTask::kSelfTask}, {t.a, BvttTask::kFrontTask}});
+            } else {
+                out.insert(out.end(), {{l, BvttTask::kSelfTask}, {r, BvttTask::kSelfTask}, {l, r}});
+            }
             return true;
         }
         const BvhNode& na = bvh_[t.a];
@@ -144,8 +144,13 @@ class SelfCollideTraversal {
         return true;
     }
     void run_task(BvttTask t) {
-        if (t.b < 0) self_collide(t.a);
-        else collide<false>(t.a, t.b);
+        if (t.b == BvttTask::kSelfTask) {
+            self_collide(t.a);
+        } else if (t.b == BvttTask::kFrontTask) {
+            if constexpr (kTrackFront) front_tracking(t.a);
+        } else {
+            collide<false>(t.a, t.b);
+        }
     }
 
    private:
@@ -250,7 +255,8 @@ class SelfCollideTraversal {
     // shrinks where two sibling entries and their parent are apart (they merge into the parent).
     void front_tracking(int32_t n) {
         BvttFront& f = *front_;
-        const size_t start = f.next.size();
+        FrontPart& next = *part_;
+        const size_t start = next.entries.size();
         if (!f.is_tracked(n)) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
@@ -263,26 +269,27 @@ class SelfCollideTraversal {
                 const bool overlap = na.box.overlaps(nb.box);
                 if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
                 if (!overlap) {
-                    f.next.push_back(e);
-                    f.mergeable.push_back(true);
+                    next.entries.push_back(e);
+                    next.mergeable.push_back(true);
                     merge_apart_siblings(start);
                 } else if (na.is_leaf() && nb.is_leaf()) {
                     emit_leaves(na, nb);
-                    f.next.push_back(e);
-                    f.mergeable.push_back(false);
+                    next.entries.push_back(e);
+                    next.mergeable.push_back(false);
                 } else {
                     descend<true>(e.a, e.b);  // the front grows below e
                 }
             }
         }
-        f.begin[n] = static_cast<int64_t>(start);
-        f.count[n] = static_cast<int32_t>(f.next.size() - start);
+        f.begin[n] = static_cast<int64_t>(start);  // a task's: rebased when the parts are joined
+        f.count[n] = static_cast<int32_t>(next.entries.size() - start);
         f.tracked[n] = f.query + 1;
+        if (rebase_) next.nodes.push_back(n);
     }
 
     void push_front(FrontEntry e, bool mergeable) {
-        front_->next.push_back(e);
-        front_->mergeable.push_back(mergeable);
+        part_->entries.push_back(e);
+        part_->mergeable.push_back(mergeable);
         ++stats_.front_added;
     }
 
@@ -290,16 +297,17 @@ class SelfCollideTraversal {
     // siblings and their parent's boxes are apart too, replace them by the parent (which may
     // merge again, with its own sibling).
     void merge_apart_siblings(size_t start) {
-        BvttFront& f = *front_;
-        while (f.next.size() - start >= 2 && f.mergeable[f.next.size() - 1] && f.mergeable[f.next.size() - 2]) {
+        std::vector<FrontEntry>& next = part_->entries;
+        std::vector<uint8_t>& mergeable = part_->mergeable;
+        while (next.size() - start >= 2 && mergeable[next.size() - 1] && mergeable[next.size() - 2]) {
             FrontEntry p;
-            if (!BvttFront::parent_of(bvh_, f.next[f.next.size() - 2], f.next.back(), p)) return;
+            if (!BvttFront::parent_of(bvh_, next[next.size() - 2], next.back(), p)) return;
             ++stats_.bv_tests;
             const bool overlap = bvh_[p.a].box.overlaps(bvh_[p.b].box);
             if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(p.a, p.b, overlap);
             if (overlap) return;
-            f.next.resize(f.next.size() - 2);
-            f.mergeable.resize(f.mergeable.size() - 2);
+            next.resize(next.size() - 2);
+            mergeable.resize(mergeable.size() - 2);
             push_front(p, true);
         }
     }
@@ -314,6 +322,8 @@ class SelfCollideTraversal {
     DcdStats& stats_;
     std::vector<TrianglePair>& out_;
     BvttFront* front_;  // kTrackFront only
+    FrontPart* part_;   // where the new sub-segments go
+    bool rebase_;       // part_ is a task's: record the nodes whose begin[] is relative to it
 };
 
 }  // namespace conecull
