@@ -60,6 +60,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--resolution", type=int, help="all: the scenes' resolution (default each scene's own)")
     p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
                                    "(default 16000,64000,256000,1000000)")
+    p.add_argument("--from-json", metavar="PAPER_JSON",
+                   help="all: re-render the scene tables and plots of a finished run (its paper.json) into --out")
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads")
     p.add_argument("--triangles", type=int, default=64000)
@@ -143,8 +145,10 @@ def _run(args) -> int:
         print(explain_node(col, res, args.node))
         return 0
     if args.command == "bench" and args.suite == "all":
-        from conecull.app.evaluation import run_all
+        from conecull.app.evaluation import render_from_json, run_all
 
+        if args.from_json:
+            return render_from_json(args.from_json, args.out)
         if args.threads is not None and args.threads < 1:
             raise ValueError(f"--threads: expected a positive count, got {args.threads}")
         if args.repeats is not None and args.repeats < 1:

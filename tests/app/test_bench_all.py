@@ -32,6 +32,13 @@ def test_bench_all_small(tmp_path, capsys):
     want = [col.dcd(V).stats["front_entries"] for V in P]
     assert [s["front_entries"] for s in fold["all_frames"]["nc+front"]] == want
     assert len(res["scaling"]) == 2
+    # Re-rendering from the JSON gives the same scene tables, without timing anything.
+    capsys.readouterr()
+    assert main(["bench", "--from-json", str(out / "paper.json"), "--out", str(tmp_path / "re")]) == 0
+    again = capsys.readouterr().out
+    for title in ("Front size (Fig. 11)", "Culling efficiency (Fig. 1)"):
+        section = report[report.index(title):].split("\n\n")[1]
+        assert section in again
     if _has("matplotlib"):
         for png in ("fig10_dcd.png", "fig10_ccd.png", "fig11_front.png", "fig1_efficiency.png", "scaling.png"):
             assert (out / png).stat().st_size > 5000
