@@ -185,14 +185,9 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
     if data is None:
         print("../shared/data not found (set CONECULL_SHARED); only the generated step is measured")
     sys.path.insert(0, str(pathlib_tests()))
-    from shared_data import load_ccd_queries, load_scalable_step  # tests/shared_data.py
+    from shared_data import load_ccd_queries  # tests/shared_data.py
 
-    steps = []
-    if data is not None:
-        for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
-            for vf in sorted((scene / "boxes").glob("*vf.json")):
-                F, V0, V1, vf_t, ee_t = load_scalable_step(scene.name, vf.name[:-len("vf.json")])
-                steps.append((f"{scene.name} ({len(F) // 1000}K)", F, V0, V1, vf_t, ee_t))
+    steps = [(f"{name} ({len(F) // 1000}K)", F, *rest) for name, F, *rest in shared_steps()]
     steps.extend(_generated_ccd_steps(n_triangles))
 
     print(f"# CCD: what accuracy costs in time (method nc, {threads} thread(s), median of {repeats} runs)")
@@ -324,6 +319,23 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
           "methods cull different nodes, so their test counts differ; paper targets: sct >= 3x nc, cbc >= 10x nc; "
           f"JSON: {path})")
     return 0
+
+
+def shared_steps():
+    """Every step of ../shared/data/scalable-ccd as (scene, F, V0, V1, vf truth, ee truth); [] without the data."""
+    import sys
+
+    data = _shared_data_dir()
+    if data is None:
+        return []
+    sys.path.insert(0, str(pathlib_tests()))
+    from shared_data import load_scalable_step  # tests/shared_data.py
+
+    steps = []
+    for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
+        for vf in sorted((scene / "boxes").glob("*vf.json")):
+            steps.append((scene.name, *load_scalable_step(scene.name, vf.name[: -len("vf.json")])))
+    return steps
 
 
 def _generated_ccd_steps(n_triangles: int):

@@ -30,7 +30,7 @@ import time
 import numpy as np
 
 import conecull
-from conecull.datasets.generated import fold, sheet_for_triangles
+from conecull.app.bench import shared_steps
 
 PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
 # The squishy ball's default 20 frames sample one drop and squash coarsely: a step moves vertices
@@ -210,23 +210,6 @@ def render_from_json(path: str, out: str) -> int:
     return 0
 
 
-def _shared_steps():
-    from conecull.app.bench import _shared_data_dir, pathlib_tests
-
-    data = _shared_data_dir()
-    if data is None:
-        return []
-    sys.path.insert(0, str(pathlib_tests()))
-    from shared_data import load_scalable_step
-
-    steps = []
-    for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
-        for vf in sorted((scene / "boxes").glob("*vf.json")):
-            F, V0, V1, vf_t, ee_t = load_scalable_step(scene.name, vf.name[: -len("vf.json")])
-            steps.append((scene.name, F, V0, V1, vf_t, ee_t))
-    return steps
-
-
 def _generated_step(n_triangles=64000):
     from conecull.app.bench import _generated_ccd_steps
 
@@ -237,7 +220,7 @@ def _generated_step(n_triangles=64000):
 def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
     """Fig. 10 on the shared real steps (and the generated cloth step): CCD per method in exact
     arithmetic over the step, and DCD per method at its end pose; CCD checked against the ground truth."""
-    steps = _shared_steps() + [_generated_step(n_triangles)] if steps is None else steps
+    steps = shared_steps() + [_generated_step(n_triangles)] if steps is None else steps
     print(f"## Query time per method (Fig. 10), real steps (../shared/data/scalable-ccd) and a generated cloth step: "
           f"{repeats} runs, {threads} thread(s), ms per query (medians)")
     print()
@@ -528,7 +511,7 @@ def run_all(args) -> int:
         if "steps" not in skip:
             steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
         if "ipctk" not in skip:
-            run_ipctk(steps or _shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results)
+            run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results)
         if "contour" not in skip:
             print("## Contour tests (Fig. 9)")
             print()

@@ -1,14 +1,8 @@
 """The viser app's server side (no browser): the front-load colouring."""
 
-import socket
-
 import numpy as np
 
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+from ports import free_port
 
 
 def test_viewer_colours_by_front_load():

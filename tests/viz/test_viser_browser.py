@@ -4,11 +4,12 @@ selection panel changed, save a screenshot, close everything."""
 
 import os
 import shutil
-import socket
 import time
 
 import numpy as np
 import pytest
+
+from ports import free_port
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 if not CHROMIUM:
@@ -19,12 +20,6 @@ playwright = pytest.importorskip("playwright.sync_api")
 
 ARGS = ["--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run", "--disable-background-networking",
         "--disable-component-update", "--disable-sync"]
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def wait_for(pred, timeout=30.0, what="condition"):
