@@ -20,6 +20,9 @@ int det3_sign(const Expansion<P> (&p)[3], const Expansion<Q> (&q)[3], const Expa
 }  // namespace
 
 int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    // Two equal points make the determinant exactly 0. Adjacent triangles ask this often (a
+    // shared vertex passed twice), and the filter can never prove a zero: skip the expansions.
+    if (a == b || a == c || a == d || b == c || b == d || c == d) return 0;
     // ((b - a) x (c - a)) . (d - a) = det[d - a; b - a; c - a]
     const Expansion<2> da[3] = {difference(d.x, a.x), difference(d.y, a.y), difference(d.z, a.z)};
     const Expansion<2> ba[3] = {difference(b.x, a.x), difference(b.y, a.y), difference(b.z, a.z)};
@@ -28,6 +31,7 @@ int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
+    if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;  // as orient3d_exact
     const auto l = mul(difference(bx, ax), difference(cy, ay));
     const auto r = mul(difference(by, ay), difference(cx, ax));
     return sign(sub(l, r));

@@ -118,3 +118,18 @@ def test_huge_offset_tiny_difference():
     for dz, expect in ((ulp, 1), (0.0, 0), (-ulp, -1)):
         d = np.array([[base + 3 * ulp, base + 5 * ulp, base + dz]])
         assert P.orient3d(a, b, c, d)[0] == expect == ex.orient3d(a[0], b[0], c[0], d[0])
+
+
+@settings(max_examples=300, deadline=None)
+@given(point, point, point, st.sampled_from([(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)]))
+def test_repeated_point_gives_zero(a, b, c, pair):
+    """A repeated point (the exact fallback's shortcut, as adjacent triangles ask) agrees with
+    the twin: zero, in every position, also for orient2d."""
+    pts = [a, b, c, None]
+    i, j = pair
+    pts[j if j < 3 else 3] = pts[i]
+    pts = [p if p is not None else c for p in pts]
+    assert P.orient3d(*rows(*pts))[0] == ex.orient3d(*pts) == 0
+    if j < 3:
+        p2 = [(p[0], p[1]) for p in pts[:3]]
+        assert P.orient2d(*rows(*p2))[0] == ex.orient2d(*p2) == 0

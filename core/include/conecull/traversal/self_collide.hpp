@@ -154,6 +154,8 @@ class SelfCollideTraversal {
     }
 
    private:
+    static constexpr int32_t kPrefetchAhead = 8;
+
     // Alg. 2 SelfCollide(N); with a front, Alg. 4 SelfCollideWithGuidedFrontTracking(N).
     void self_collide(int32_t i) {
         const BvhNode& n = bvh_[i];
@@ -261,7 +263,14 @@ class SelfCollideTraversal {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
             const FrontEntry* seg = f.entries.data() + f.begin[n];
-            for (int32_t k = 0; k < f.count[n]; ++k) {
+            const int32_t count = f.count[n];
+            for (int32_t k = 0; k < count; ++k) {
+                // A front is a flat list of independent box tests, known ahead: unlike a
+                // top-down descent it can fetch the boxes of later entries while testing this one.
+                if (k + kPrefetchAhead < count) {
+                    __builtin_prefetch(&bvh_[seg[k + kPrefetchAhead].a]);
+                    __builtin_prefetch(&bvh_[seg[k + kPrefetchAhead].b]);
+                }
                 const FrontEntry e = seg[k];
                 ++stats_.bv_tests;
                 const BvhNode& na = bvh_[e.a];
