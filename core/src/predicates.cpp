@@ -17,6 +17,21 @@ int det3_sign(const Expansion<P> (&p)[3], const Expansion<Q> (&q)[3], const Expa
     return sign(s);
 }
 
+// Rows p - q as expansions: one double each when every difference rounded exactly (Sterbenz:
+// nearby coordinates, the usual case at a near-degenerate input), so the expansion products stay
+// small; two doubles each otherwise.
+template <int K>
+void differences(const Vec3 (&p)[K], const Vec3 (&q)[K], Expansion<1> (&one)[K][3], Expansion<2> (&two)[K][3],
+                 bool& exact) {
+    exact = true;
+    for (int r = 0; r < K; ++r)
+        for (int k = 0; k < 3; ++k) {
+            two[r][k] = difference(p[r][k], q[r][k]);
+            exact = exact && two[r][k].n <= 1;
+            one[r][k] = value(p[r][k] - q[r][k]);
+        }
+}
+
 }  // namespace
 
 int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -24,33 +39,40 @@ int orient3d_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     // shared vertex passed twice), and the filter can never prove a zero: skip the expansions.
     if (a == b || a == c || a == d || b == c || b == d || c == d) return 0;
     // ((b - a) x (c - a)) . (d - a) = det[d - a; b - a; c - a]
-    const Expansion<2> da[3] = {difference(d.x, a.x), difference(d.y, a.y), difference(d.z, a.z)};
-    const Expansion<2> ba[3] = {difference(b.x, a.x), difference(b.y, a.y), difference(b.z, a.z)};
-    const Expansion<2> ca[3] = {difference(c.x, a.x), difference(c.y, a.y), difference(c.z, a.z)};
-    return det3_sign(da, ba, ca);
+    Expansion<1> one[3][3];
+    Expansion<2> two[3][3];
+    bool exact;
+    differences<3>({d, b, c}, {a, a, a}, one, two, exact);
+    return exact ? det3_sign(one[0], one[1], one[2]) : det3_sign(two[0], two[1], two[2]);
 }
 
 int orient2d_exact(double ax, double ay, double bx, double by, double cx, double cy) {
     if ((ax == bx && ay == by) || (ax == cx && ay == cy) || (bx == cx && by == cy)) return 0;  // as orient3d_exact
-    const auto l = mul(difference(bx, ax), difference(cy, ay));
-    const auto r = mul(difference(by, ay), difference(cx, ax));
-    return sign(sub(l, r));
+    const auto bax = difference(bx, ax), cay = difference(cy, ay), bay = difference(by, ay), cax = difference(cx, ax);
+    if (bax.n <= 1 && cay.n <= 1 && bay.n <= 1 && cax.n <= 1)  // exact differences, as differences()
+        return sign(sub(mul(value(bx - ax), value(cy - ay)), mul(value(by - ay), value(cx - ax))));
+    return sign(sub(mul(bax, cay), mul(bay, cax)));
 }
 
 int side_sign_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& l) {
     // ((a - c) x (b - c)) . l = det[l; a - c; b - c]
     const Expansion<1> ll[3] = {value(l.x), value(l.y), value(l.z)};
-    const Expansion<2> p[3] = {difference(a.x, c.x), difference(a.y, c.y), difference(a.z, c.z)};
-    const Expansion<2> q[3] = {difference(b.x, c.x), difference(b.y, c.y), difference(b.z, c.z)};
-    return det3_sign(ll, p, q);
+    Expansion<1> one[2][3];
+    Expansion<2> two[2][3];
+    bool exact;
+    differences<2>({a, b}, {c, c}, one, two, exact);
+    return exact ? det3_sign(ll, one[0], one[1]) : det3_sign(ll, two[0], two[1]);
 }
 
 int ray_side_sign_exact(const Vec3& v, const Vec3& o, const Vec3& r, const Vec3& l) {
     // (r x (v - o)) . l = det[l; r; v - o]
     const Expansion<1> ll[3] = {value(l.x), value(l.y), value(l.z)};
     const Expansion<1> rr[3] = {value(r.x), value(r.y), value(r.z)};
-    const Expansion<2> w[3] = {difference(v.x, o.x), difference(v.y, o.y), difference(v.z, o.z)};
-    return det3_sign(ll, rr, w);
+    Expansion<1> one[1][3];
+    Expansion<2> two[1][3];
+    bool exact;
+    differences<1>({v}, {o}, one, two, exact);
+    return exact ? det3_sign(ll, rr, one[0]) : det3_sign(ll, rr, two[0]);
 }
 
 }  // namespace conecull::detail

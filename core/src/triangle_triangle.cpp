@@ -117,12 +117,38 @@ bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
     return false;
 }
 
+// Cheap proof that triangles P = (v, a, b), Q = (v, c, d) meet only at v, from one projection
+// that keeps P non-degenerate: a line through v and one of the four other corners with one
+// projected triangle on one side and the other's two free corners strictly on the other side.
+// Then the projections meet only at v, and as the projection is injective on P, so do P and Q.
+// Asked only when orient3d's filter fails (near-coplanar neighbours, as on a flat or rigidly
+// moved sheet), where it usually saves the exact fallback. False: not proven.
+bool apart_beyond_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
+    const auto [k, s] = projection_axis(P[0], P[1], P[2]);
+    if (k < 0) return false;
+    const P2 V = drop(k, P[0]), A = drop(k, P[1]), B = drop(k, P[2]), C = drop(k, Q[1]), D = drop(k, Q[2]);
+    // Lines through P's edges: P lies on the side (s) of its own third corner.
+    if (orient(V, A, C) == -s && orient(V, A, D) == -s) return true;
+    if (orient(V, B, C) == s && orient(V, B, D) == s) return true;
+    // Lines through Q's edges, when Q projects to a proper triangle (t its orientation).
+    const int t = orient(V, C, D);
+    if (t == 0) return false;
+    if (orient(V, C, A) == -t && orient(V, C, B) == -t) return true;
+    return orient(V, D, A) == t && orient(V, D, B) == t;
+}
+
 // P = (v, a, b), Q = (v, c, d).
 bool collide_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
     const Vec3 &v = P[0];
     // If c and d lie strictly on one side of P's plane, Q meets that plane only at v.
-    const int oc = orient3d(P[0], P[1], P[2], Q[1]), od = orient3d(P[0], P[1], P[2], Q[2]);
-    if (oc * od > 0) return false;
+    int oc = orient3d_filtered(P[0], P[1], P[2], Q[1]), od = orient3d_filtered(P[0], P[1], P[2], Q[2]);
+    if (oc != kUnknownSign && od != kUnknownSign && oc * od > 0) return false;
+    if (oc == kUnknownSign || od == kUnknownSign) {
+        if (apart_beyond_shared_vertex(P, Q)) return false;
+        if (oc == kUnknownSign) oc = detail::orient3d_exact(P[0], P[1], P[2], Q[1]);
+        if (od == kUnknownSign) od = detail::orient3d_exact(P[0], P[1], P[2], Q[2]);
+        if (oc * od > 0) return false;
+    }
     const int oa = orient3d(Q[0], Q[1], Q[2], P[1]), ob = orient3d(Q[0], Q[1], Q[2], P[2]);
     if (oa * ob > 0) return false;
     for (int i = 0; i < 3; ++i) {
@@ -135,7 +161,15 @@ bool collide_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
 // P = (a, b, c), Q = (a, b, d): shared edge [a, b].
 bool collide_shared_edge(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     // Not coplanar: the planes meet in line ab, and each triangle meets it in [a, b] only.
-    if (orient3d(a, b, c, d) != 0) return false;
+    int o = orient3d_filtered(a, b, c, d);
+    if (o == kUnknownSign) {
+        // Near-coplanar. A cheaper proof first (as apart_beyond_shared_vertex): in a projection
+        // that keeps P proper, c and d strictly on opposite sides of line ab, so the projections,
+        // and P and Q, meet in [a, b] only.
+        if (const auto [k, s] = projection_axis(a, b, c); k >= 0 && orient2d_drop(k, a, b, d) == -s) return false;
+        o = detail::orient3d_exact(a, b, c, d);
+    }
+    if (o != 0) return false;
     if (a == b) {
         // Both are segments from a: they overlap beyond a iff c, d leave a the same way.
         if (c == a || d == a || !collinear(a, c, d)) return false;

@@ -77,6 +77,32 @@ def test_ulp_perturbed_lattice_pairs(p, kicks):
     assert run_cpp(fp, P, fq, Q) == run_oracle(fp, P, fq, Q)
 
 
+def _rotation(angles):
+    a, b, c = angles
+    rx = np.array([[1, 0, 0], [0, np.cos(a), -np.sin(a)], [0, np.sin(a), np.cos(a)]])
+    ry = np.array([[np.cos(b), 0, np.sin(b)], [0, 1, 0], [-np.sin(b), 0, np.cos(b)]])
+    rz = np.array([[np.cos(c), -np.sin(c), 0], [np.sin(c), np.cos(c), 0], [0, 0, 1]])
+    return rz @ ry @ rx
+
+
+@settings(max_examples=1500, deadline=None)
+@given(pair(st.tuples(lattice, lattice, st.just(0))), st.tuples(*[st.floats(0.0, 6.3)] * 3),
+       st.sampled_from([0.0, 1e3, -7.25]))
+def test_rotated_flat_pairs(p, angles, offset):
+    """Coplanar lattice pairs (neighbours on a flat sheet, folded over or not) turned by a
+    floating-point rotation: near-coplanar, so orient3d's filter fails and the shared-vertex and
+    shared-edge tests take their 2D shortcut or the exact fallback."""
+    fp, P, fq, Q = p
+    R = _rotation(angles)
+    P = [list(R @ np.array(v, float) + offset) for v in P]
+    Q = [list(R @ np.array(v, float) + offset) for v in Q]
+    ids = {}
+    for f, pts in ((fp, P), (fq, Q)):  # shared ids keep bit-identical positions
+        for k, i in enumerate(f):
+            pts[k] = ids.setdefault(i, pts[k])
+    assert run_cpp(fp, P, fq, Q) == run_oracle(fp, P, fq, Q)
+
+
 CASES = [
     # name, fp, P, fq, Q, expected
     ("disjoint", [0, 1, 2], [[0, 0, 0], [1, 0, 0], [0, 1, 0]], [3, 4, 5], [[0, 0, 1], [1, 0, 1], [0, 1, 1]], False),

@@ -31,8 +31,8 @@
 
 namespace conecull {
 
-// A sign over the whole motion: +-1 strict throughout, 0 identically zero, kUnknown otherwise.
-inline constexpr int kUnknownSign = 2;
+// A sign over the whole motion: +-1 strict throughout, 0 identically zero, kUnknownSign
+// (predicates/orient.hpp) otherwise.
 
 // One pose (DCD; cbc on a DCD query is this test at that pose).
 struct QuadraticSignsDiscrete {

@@ -25,9 +25,13 @@ int side_sign_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& l);
 int ray_side_sign_exact(const Vec3& v, const Vec3& o, const Vec3& r, const Vec3& l);
 }  // namespace detail
 
+// What the filter of orient3d returns when it cannot prove the sign.
+inline constexpr int kUnknownSign = 2;
+
 // sign(((b - a) x (c - a)) . (d - a)): +1 when d lies on the side the right-hand normal of
-// triangle (a, b, c) points to.
-inline int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+// triangle (a, b, c) points to. orient3d_filtered: the filter only (kUnknownSign if unproven),
+// for callers that have a cheaper way around the exact fallback.
+inline int orient3d_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     const double bax = b.x - a.x, bay = b.y - a.y, baz = b.z - a.z;
     const double cax = c.x - a.x, cay = c.y - a.y, caz = c.z - a.z;
     const double dax = d.x - a.x, day = d.y - a.y, daz = d.z - a.z;
@@ -41,7 +45,11 @@ inline int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) 
     const double bound = kDet3ErrBound * perm;
     if (det > bound) return 1;
     if (-det > bound) return -1;
-    return detail::orient3d_exact(a, b, c, d);
+    return kUnknownSign;
+}
+inline int orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const int s = orient3d_filtered(a, b, c, d);
+    return s != kUnknownSign ? s : detail::orient3d_exact(a, b, c, d);
 }
 
 // sign((b - a) x (c - a)) in the plane of coordinates (i, j): +1 for counter-clockwise.
