@@ -102,14 +102,51 @@ bool segment_meets_triangle_beyond(const Vec3& p, const Vec3& q, const Vec3& v, 
 
 bool strictly_one_side(int a, int b, int c) { return (a > 0 && b > 0 && c > 0) || (a < 0 && b < 0 && c < 0); }
 
+// Cheap proof that P and Q are disjoint: their projections along P's dominant normal axis are
+// strictly separated by the line through an edge of either (2D separating axes; filtered
+// signs). Disjoint projections, disjoint triangles. Asked only when orient3d's filter fails
+// (near-coplanar pairs, as on a flat or rigidly moved sheet). False: not proven.
+bool apart_in_projection(const Vec3 P[3], const Vec3 Q[3]) {
+    const auto [k, s] = projection_axis(P[0], P[1], P[2]);
+    if (k < 0) return false;
+    const P2 p[3] = {drop(k, P[0]), drop(k, P[1]), drop(k, P[2])};
+    const P2 q[3] = {drop(k, Q[0]), drop(k, Q[1]), drop(k, Q[2])};
+    // One triangle lies on side `side` of its edge line (a, b); the other strictly beyond it?
+    const auto beyond = [](const P2& a, const P2& b, int side, const P2(&o)[3]) {
+        return orient(a, b, o[0]) == -side && orient(a, b, o[1]) == -side && orient(a, b, o[2]) == -side;
+    };
+    for (int i = 0; i < 3; ++i)
+        if (beyond(p[i], p[(i + 1) % 3], s, q)) return true;
+    const int t = orient(q[0], q[1], q[2]);
+    if (t == 0) return false;
+    for (int i = 0; i < 3; ++i)
+        if (beyond(q[i], q[(i + 1) % 3], t, p)) return true;
+    return false;
+}
+
 bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
-    // Plane rejection: one triangle strictly on one side of the other's plane.
-    if (strictly_one_side(orient3d(P[0], P[1], P[2], Q[0]), orient3d(P[0], P[1], P[2], Q[1]),
-                          orient3d(P[0], P[1], P[2], Q[2])))
-        return false;
-    if (strictly_one_side(orient3d(Q[0], Q[1], Q[2], P[0]), orient3d(Q[0], Q[1], Q[2], P[1]),
-                          orient3d(Q[0], Q[1], Q[2], P[2])))
-        return false;
+    // Plane rejection: one triangle strictly on one side of the other's plane. Filtered signs
+    // first; where they fail, the 2D proof above before the exact fallback.
+    int op[3], oq[3];
+    bool unknown = false;
+    for (int j = 0; j < 3; ++j) {
+        op[j] = orient3d_filtered(P[0], P[1], P[2], Q[j]);
+        unknown = unknown || op[j] == kUnknownSign;
+    }
+    if (!unknown && strictly_one_side(op[0], op[1], op[2])) return false;
+    for (int j = 0; j < 3; ++j) {
+        oq[j] = orient3d_filtered(Q[0], Q[1], Q[2], P[j]);
+        unknown = unknown || oq[j] == kUnknownSign;
+    }
+    if (!unknown && strictly_one_side(oq[0], oq[1], oq[2])) return false;
+    if (unknown) {
+        if (apart_in_projection(P, Q)) return false;
+        for (int j = 0; j < 3; ++j) {
+            if (op[j] == kUnknownSign) op[j] = detail::orient3d_exact(P[0], P[1], P[2], Q[j]);
+            if (oq[j] == kUnknownSign) oq[j] = detail::orient3d_exact(Q[0], Q[1], Q[2], P[j]);
+        }
+        if (strictly_one_side(op[0], op[1], op[2]) || strictly_one_side(oq[0], oq[1], oq[2])) return false;
+    }
     for (int i = 0; i < 3; ++i) {
         if (segment_meets_triangle(P[i], P[(i + 1) % 3], Q[0], Q[1], Q[2])) return true;
         if (segment_meets_triangle(Q[i], Q[(i + 1) % 3], P[0], P[1], P[2])) return true;
