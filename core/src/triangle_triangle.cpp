@@ -100,6 +100,15 @@ bool segment_meets_triangle_beyond(const Vec3& p, const Vec3& q, const Vec3& v, 
     return (!(p == v) && enters_at_vertex(p, v, c, d)) || (!(q == v) && enters_at_vertex(q, v, c, d));
 }
 
+// segment_meets_triangle when the sides of p and q of the triangle's plane are known (its
+// orient3d signs, op and oq): the plane test is skipped, and done once per pair by the caller.
+bool segment_meets_triangle_sides(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c, int op,
+                                  int oq) {
+    if (op * oq > 0) return false;
+    if (op == 0 && oq == 0) return segment_meets_triangle(p, q, a, b, c);  // in the plane (or a degenerate triangle)
+    return segment_crosses_triangle(p, q, a, b, c);  // the triangle is proper: some orient3d is not 0
+}
+
 bool strictly_one_side(int a, int b, int c) { return (a > 0 && b > 0 && c > 0) || (a < 0 && b < 0 && c < 0); }
 
 // Cheap proof that P and Q are disjoint: their projections along P's dominant normal axis are
@@ -147,9 +156,12 @@ bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
         }
         if (strictly_one_side(op[0], op[1], op[2]) || strictly_one_side(oq[0], oq[1], oq[2])) return false;
     }
+    // Every sign is now known: an edge meets the other triangle only if its ends are not
+    // strictly on one side of that triangle's plane.
     for (int i = 0; i < 3; ++i) {
-        if (segment_meets_triangle(P[i], P[(i + 1) % 3], Q[0], Q[1], Q[2])) return true;
-        if (segment_meets_triangle(Q[i], Q[(i + 1) % 3], P[0], P[1], P[2])) return true;
+        const int j = (i + 1) % 3;
+        if (segment_meets_triangle_sides(P[i], P[j], Q[0], Q[1], Q[2], oq[i], oq[j])) return true;
+        if (segment_meets_triangle_sides(Q[i], Q[j], P[0], P[1], P[2], op[i], op[j])) return true;
     }
     return false;
 }
@@ -263,6 +275,10 @@ bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const V
         return point_in_triangle_2d(A, B, C, Pp) || point_in_triangle_2d(A, B, C, Qq) ||
                segments_meet_2d(Pp, Qq, A, B) || segments_meet_2d(Pp, Qq, B, C) || segments_meet_2d(Pp, Qq, C, A);
     }
+    return segment_crosses_triangle(p, q, a, b, c);
+}
+
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
     // The segment crosses the plane at one point; it is in the triangle iff the line pq passes
     // on the same side of all three edges (signed volumes; zero on an edge).
     const int s1 = orient3d(p, q, a, b), s2 = orient3d(p, q, b, c), s3 = orient3d(p, q, c, a);

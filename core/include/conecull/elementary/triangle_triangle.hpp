@@ -19,6 +19,9 @@ namespace conecull {
 
 // Closed segment [p, q] meets closed triangle (a, b, c); either may be degenerate.
 bool segment_meets_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
+// The same when p and q are known to lie on opposite sides of the proper triangle's plane, or
+// one of them on it (the other not): only the line pq against the three edges remains.
+bool segment_crosses_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
 // Closed segments [p, q] and [a, b] meet; either may be a point.
 bool segment_meets_segment(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b);
 // x lies on the closed segment [p, q].
