@@ -76,54 +76,37 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
     BvttFront& front = Motion::kContinuous ? ccd_front_ : dcd_front_;
     candidates_.clear();
     candidate_list_.set(candidates_);  // unless the parallel traversal lists its own
-    if constexpr (!kTraceHooks<Tracer>) {
-        // Several threads: the same candidates in the same order, and the same front
-        // (parallel_self_collide.hpp). A traced query stays serial (events in order).
-        if (query_threads_ > 1 && method_ != Method::kSct && method_ != Method::kCbc) {
-            auto par = [&](auto make, BvttFront* f) {
+    // aabb / nc, without or with a front (the template arguments per method).
+    auto run = [&](auto cones, auto track) {
+        constexpr bool kCones = decltype(cones)::value, kFront = decltype(track)::value;
+        BvttFront* f = kFront ? &front : nullptr;
+        if constexpr (!kTraceHooks<Tracer>) {
+            // Several threads: the same candidates in the same order, and the same front
+            // (parallel_self_collide.hpp). A traced query stays serial (events in order).
+            if (query_threads_ > 1) {
+                const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
+                    return SelfCollideTraversal<kCones, Tracer, Motion, kFront>(bvh_, contours_, cones_, motion, tracer,
+                                                                               s, out, f, kFront ? part : nullptr);
+                };
                 parallel_self_collide(bvh_, query_threads_, make, f, st, candidate_list_, parallel_);
-            };
-            switch (method_) {
-                case Method::kAabb:
-                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
-                        return SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-                    }, nullptr);
-                    return;
-                case Method::kNc:
-                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
-                        return SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, s, out);
-                    }, nullptr);
-                    return;
-                case Method::kAabbFront:
-                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
-                        return SelfCollideTraversal<false, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
-                                                                                 s, out, &front, part);
-                    }, &front);
-                    return;
-                case Method::kNcFront:
-                    par([&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
-                        return SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer,
-                                                                                s, out, &front, part);
-                    }, &front);
-                    return;
-                default: break;
+                return;
             }
         }
-    }
+        SelfCollideTraversal<kCones, Tracer, Motion, kFront>(bvh_, contours_, cones_, motion, tracer, st, candidates_, f)
+            .run();
+    };
     switch (method_) {
         case Method::kAabb:
-            SelfCollideTraversal<false, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+            run(std::false_type{}, std::false_type{});
             break;
         case Method::kNc:
-            SelfCollideTraversal<true, Tracer, Motion>(bvh_, contours_, cones_, motion, tracer, st, candidates_).run();
+            run(std::true_type{}, std::false_type{});
             break;
         case Method::kAabbFront:
-            SelfCollideTraversal<false, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
-                                                              &front).run();
+            run(std::false_type{}, std::true_type{});
             break;
         case Method::kNcFront:
-            SelfCollideTraversal<true, Tracer, Motion, true>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
-                                                             &front).run();
+            run(std::true_type{}, std::true_type{});
             break;
         case Method::kSct:
             if constexpr (!Motion::kContinuous) {
