@@ -233,6 +233,15 @@ def sct_candidate(loop_pts, l):
     return None, u, k
 
 
+def retry_kernel(first_reason, loop_pts, l):
+    """The second kernel point the core tries (contour_test.hpp, with_kernel_retry): after the
+    mean failed the kernel test (reasons 1, 2), [SPO10]'s line-search point, if it finds one;
+    else None (the first verdict stands)."""
+    if first_reason not in (1, 2):
+        return None
+    return sct_candidate(loop_pts, l)[0]
+
+
 SCT_RAY_SLOPES = (0.6180339887498949, -1.3247179572447460)
 
 

@@ -100,7 +100,8 @@ void bind_ccd(py::module_& m) {
         "CSideSign1 per row: s if the three Bernstein coefficients all have the strict sign s, else 0.");
     m.def(
         "contour_test_ccd",
-        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r) {
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r,
+           std::optional<F64Array> o) {
             require_shape(V0, "V0", -1, 3);
             require_shape(V1, "V1", V0.shape(0), 3);
             if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
@@ -109,18 +110,20 @@ void bind_ccd(py::module_& m) {
                 if (loop.data()[i] < 0 || loop.data()[i] >= V0.shape(0)) throw py::value_error("loop: index out of range");
             const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            ContourVerdict v;
-            if (r) {
-                if (r->ndim() != 1 || r->shape(0) != 3) throw py::value_error("r: expected shape (3,)");
-                v = unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis,
-                                                          Vec3{r->data()[0], r->data()[1], r->data()[2]});
-            } else {
-                v = unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis);
-            }
-            return verdict_dict(v);
+            const std::optional<Vec3> ray = opt_vec3(r, "r"), kernel = opt_vec3(o, "o");
+            const auto at = [&](const Vec3& k) {
+                if (ray) return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, *ray, k);
+                return with_ray_retry(axis, [&](const Vec3& d) {
+                    return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, d, k);
+                });
+            };
+            if (kernel) return verdict_dict(at(*kernel));
+            if (ray) return verdict_dict(at(kernel_point(loop.data(), n, V0.data())));
+            return verdict_dict(unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis));
         },
-        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(),
-        "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; ray r if given.");
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
+        "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; o (kernel point, fixed over the step) and r\n"
+        "(ray) as contour_test: by default the mean at t = 0, then the line-search kernel point at t = 0.");
 }
 
 }  // namespace conecull::bind

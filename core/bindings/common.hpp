@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -49,6 +50,14 @@ py::array_t<T> to_numpy(const std::vector<T>& v, py::ssize_t cols) {
     py::array_t<T> a({static_cast<py::ssize_t>(v.size()) / cols, cols});
     std::copy(v.begin(), v.end(), a.mutable_data());
     return a;
+}
+
+// An optional (3,) vector argument (a ray, a kernel point); ValueError naming it if mis-shaped.
+inline std::optional<Vec3> opt_vec3(const std::optional<F64Array>& a, const char* name) {
+    if (!a) return std::nullopt;
+    if (a->ndim() != 1 || a->shape(0) != 3)
+        throw py::value_error(std::string(name) + ": expected shape (3,), got " + shape_str(*a));
+    return Vec3{a->data()[0], a->data()[1], a->data()[2]};
 }
 
 // (k, 3) float64 rows -> Vec3.

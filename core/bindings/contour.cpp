@@ -48,27 +48,26 @@ Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Arra
 void bind_contour(py::module_& m) {
     m.def(
         "contour_test",
-        [](const I32Array& loop, const F64Array& V, const F64Array& l, std::optional<F64Array> r) {
+        [](const I32Array& loop, const F64Array& V, const F64Array& l, std::optional<F64Array> r,
+           std::optional<F64Array> o) {
             require_shape(V, "V", -1, 3);
-            if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
-            if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
-            for (py::ssize_t i = 0; i < loop.shape(0); ++i)
-                if (loop.data()[i] < 0 || loop.data()[i] >= V.shape(0)) throw py::value_error("loop: index out of range");
-            const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
+            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            ContourVerdict v;
-            if (r) {
-                if (r->ndim() != 1 || r->shape(0) != 3) throw py::value_error("r: expected shape (3,)");
-                const Vec3 ray{r->data()[0], r->data()[1], r->data()[2]};
-                v = unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, ray);
-            } else {
-                v = unprojected_contour_test(loop.data(), n, V.data(), axis);
-            }
-            return verdict_dict(v);
+            const std::optional<Vec3> ray = opt_vec3(r, "r"), kernel = opt_vec3(o, "o");
+            const auto at = [&](const Vec3& k) {  // one kernel point: the given ray, or the core's rays
+                if (ray) return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, *ray, k);
+                return with_ray_retry(
+                    axis, [&](const Vec3& d) { return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, d, k); });
+            };
+            if (kernel) return verdict_dict(at(*kernel));
+            if (ray) return verdict_dict(at(kernel_point(loop.data(), n, V.data())));
+            return verdict_dict(unprojected_contour_test(loop.data(), n, V.data(), axis));
         },
-        py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(),
-        "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,); ray r (3,) if given,\n"
-        "else the core's choice (generic directions, a second one if the first hits a vertex).");
+        py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
+        "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,). By default the core's\n"
+        "choices: o the mean, then the line-search kernel point if the mean fails the kernel test; generic ray\n"
+        "directions, a second one if the first hits a vertex. o (3,) fixes the kernel point, r (3,) the ray\n"
+        "(with r alone, o is the mean).");
     m.def(
         "sct_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {

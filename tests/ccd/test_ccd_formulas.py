@@ -87,14 +87,41 @@ def moving_loops(draw):
 def test_contour_test_ccd_matches_twin_and_is_sound(args):
     P0, P1, l = args
     ids = np.arange(len(P0), dtype=np.int32)
+    Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
+    # Alg. 3's kernel point (the mean at t = 0) against the twin, with the core's ray ...
+    first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))
+    passed, reason, edge = ex.contour_test_ccd(Q0, Q1, tuple(l), first["ray"])
+    assert (first["passed"], first["reason"]) == (passed, reason)
+    # ... and the core's full test: after a kernel failure, the line-search point at t = 0.
     res = C.contour_test_ccd(ids, P0, P1, l)
-    passed, reason, edge = ex.contour_test_ccd([tuple(p) for p in P0], [tuple(p) for p in P1], tuple(l), res["ray"])
-    assert (res["passed"], res["reason"]) == (passed, reason)
+    o2 = ex.retry_kernel(reason, Q0, tuple(l))
+    if o2 is None:
+        assert (res["passed"], res["reason"], res["kernel"]) == (first["passed"], first["reason"], first["kernel"])
+    else:
+        assert res["kernel"] == o2
+        assert (res["passed"], res["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2)[:2]
     if res["passed"]:
         for t in TS:
             Pt = [tuple(float(c) for c in ex.lerp(p0, p1, t)) if t in (0, 1) else ex.lerp(p0, p1, t)
                   for p0, p1 in zip(P0, P1)]
             assert projected_simple_exact(Pt, l), f"passed, but the contour is not simple at t = {t}"
+
+
+def test_ccd_kernel_retry_on_a_moving_spiked_star():
+    """The spiked star of tests/contour (mean outside the kernel) translated and slightly turned
+    over the step: Alg. 3 with the mean fails, the line-search point at t = 0 passes, and the
+    twin agrees on that point."""
+    l = np.array([0.0, 0.0, 1.0])
+    P0 = np.array([[1, 0, 0], [0.7, 0.7, 0], [0.1, 0.9, 0], [0.05, 6, 0], [0, 6.2, 0], [-0.05, 6, 0], [-0.1, 0.9, 0],
+                   [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]], float)
+    P1 = P0 + np.array([0.01, -0.02, 0.3]) + 0.002 * np.cross(l, P0)
+    ids = np.arange(len(P0), dtype=np.int32)
+    Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
+    assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))["passed"]
+    res = C.contour_test_ccd(ids, P0, P1, l)
+    o2 = ex.sct_candidate(Q0, tuple(l))[0]
+    assert res["passed"] and res["kernel"] == o2
+    assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2)[0]
 
 
 def projected_simple_exact(points, l):

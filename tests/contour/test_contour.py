@@ -157,19 +157,49 @@ def loops(draw):
 @given(loops())
 def test_contour_test_matches_exact_twin_and_is_sound(loop):
     pts, l = loop
+    P = [tuple(p) for p in pts]
     ids = np.arange(len(pts), dtype=np.int32)
-    res = CT.contour_test(ids, pts, l)
-    # The twin runs the printed Alg. 1 with the ray the core ended up using ...
-    passed, reason, edge = ex.contour_test([tuple(p) for p in pts], tuple(l), r=res["ray"])
+    # Alg. 1's kernel point (the mean): the twin runs the printed Alg. 1 with the ray the core
+    # ended up using ...
+    first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
+    passed, reason, edge = ex.contour_test(P, tuple(l), r=first["ray"])
+    assert (first["passed"], first["reason"]) == (passed, reason)
+    if reason in (1, 2, 3, 4):
+        assert first["edge"] == edge
     # ... and the core given the paper's ray agrees with the twin on the paper's ray.
     paper_r = np.array(ex.ray_direction(tuple(l)))
     res_paper = CT.contour_test(ids, pts, l, paper_r)
-    assert (res_paper["passed"], res_paper["reason"]) == ex.contour_test([tuple(p) for p in pts], tuple(l))[:2]
-    assert (res["passed"], res["reason"]) == (passed, reason)
-    if reason in (1, 2, 3, 4):
-        assert res["edge"] == edge
-    if res["passed"]:
-        assert projected_simple(pts, l), "Alg. 1 passed a loop whose projection is not simple"
+    assert (res_paper["passed"], res_paper["reason"]) == ex.contour_test(P, tuple(l))[:2]
+    # The core's full test: the mean, then (after a kernel failure) the line-search point.
+    res = CT.contour_test(ids, pts, l)
+    o2 = ex.retry_kernel(reason, P, tuple(l))
+    if o2 is None:
+        assert (res["passed"], res["reason"], res["kernel"]) == (first["passed"], first["reason"], first["kernel"])
+    else:
+        assert res["kernel"] == o2
+        assert (res["passed"], res["reason"]) == ex.contour_test(P, tuple(l), o=o2, r=res["ray"])[:2]
+    for v in (first, res):
+        if v["passed"]:
+            assert projected_simple(pts, l), "Alg. 1 passed a loop whose projection is not simple"
+
+
+def test_kernel_retry_passes_a_star_whose_mean_is_outside_its_kernel():
+    """A star around the origin with a long thin spike: the mean lies up in the spike, outside
+    the kernel, and Alg. 1 with the mean fails; the line-search point (on the line through the
+    mean, across the kernel) passes, and the loop is indeed simple."""
+    l = np.array([0.0, 0.0, 1.0])
+    pts = np.array([[1, 0, 0], [0.7, 0.7, 0], [0.1, 0.9, 0], [0.05, 6, 0], [0, 6.2, 0], [-0.05, 6, 0], [-0.1, 0.9, 0],
+                    [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]], float)
+    ids = np.arange(len(pts), dtype=np.int32)
+    P = [tuple(p) for p in pts]
+    first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
+    assert not first["passed"] and first["reason"] == 2
+    res = CT.contour_test(ids, pts, l)
+    assert res["passed"] and res["kernel"] == ex.sct_candidate(P, tuple(l))[0]
+    assert res["edges_visited"] == first["edges_visited"] + len(pts) + len(pts)  # both attempts and the search
+    assert projected_simple(pts, l)
+    with pytest.raises(ValueError, match="o: expected shape"):
+        CT.contour_test(ids, pts, l, o=np.zeros(2))
 
 
 def test_star_and_twice_winding_examples():

@@ -51,18 +51,29 @@ struct ContinuousSigns {
     int ray(int32_t i) const { return csidesign2(load(V0, loop[i]), load(V1, loop[i]), o, r, l); }  // lines 23-24
 };
 
-// Alg. 3: the kernel point is the mean at t = 0 (Alg. 3 line 2), fixed over the step.
+// Alg. 3 with kernel point o, fixed over the step.
+inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop, int32_t n, const double* V0,
+                                                          const double* V1, const Vec3& l, const Vec3& r,
+                                                          const Vec3& o) {
+    ContourVerdict out;
+    out.kernel = o;
+    out.ray = r;
+    return star_contour_test(n, ContinuousSigns{loop, V0, V1, o, r, l}, out);
+}
+// Alg. 3 line 2: the mean at t = 0.
 inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop, int32_t n, const double* V0,
                                                           const double* V1, const Vec3& l, const Vec3& r) {
-    ContourVerdict out;
-    out.kernel = kernel_point(loop, n, V0);
-    out.ray = r;
-    return star_contour_test(n, ContinuousSigns{loop, V0, V1, out.kernel, r, l}, out);
+    return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, kernel_point(loop, n, V0));
 }
 
+// The kernel point: the mean at t = 0, then, if that fails the kernel test, the line-search
+// kernel point of the loop at t = 0 (with_kernel_retry); o stays fixed over the step.
 inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                                   const Vec3& l) {
-    return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r); });
+    return with_kernel_retry(loop, n, V0, l, [&](const Vec3& o) {
+        return with_ray_retry(
+            l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o); });
+    });
 }
 
 }  // namespace conecull

@@ -1,0 +1,120 @@
+// Kernel points of the star-contour tests. Any point o works for the tests (their signs are
+// exact, so "passed" is a proof for whichever o was used); o only decides how often they pass.
+//   - kernel_point: Alg. 1 line 2 (and Alg. 3 line 2), the mean of the contour vertices.
+//   - search_kernel_point: the line search of [SPO10] ("sct"): project the contour on the plane
+//     perpendicular to the cone axis and intersect, along one line, the inner half-planes of
+//     all its edges. It finds a kernel point of many loops whose mean lies outside the kernel
+//     (long, bent contours of large nodes).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "conecull/vec3.hpp"
+
+namespace conecull {
+
+// Alg. 1 line 2: kernel point o = mean of the contour vertices (of V). Rounding only moves it.
+inline Vec3 kernel_point(const int32_t* loop, int32_t n, const double* V) {
+    Vec3 sum;
+    for (int32_t i = 0; i < n; ++i) sum = sum + load(V, loop[i]);
+    return (1.0 / n) * sum;
+}
+
+// The frame of the projection plane: u = l x e_k with e_k the axis of l's smallest component,
+// so u is exact (its components are +-l's or 0) and exactly perpendicular to l; w = l x u,
+// rounded (w_exact is only used in the error analysis). The rays are u + phi e_k.
+struct ProjectionFrame {
+    Vec3 u, w;
+    int k = 0;
+    double uu = 0;     // |u|^2 (rounded; only scales the candidate o)
+    double scale = 0;  // max(max |u_j|, max |w_j|, max |l_j| max |u_j|): see project()
+};
+
+inline ProjectionFrame projection_frame(const Vec3& l) {
+    ProjectionFrame f;
+    const double ax = std::fabs(l.x), ay = std::fabs(l.y), az = std::fabs(l.z);
+    f.k = (ax <= ay && ax <= az) ? 0 : (ay <= az ? 1 : 2);
+    f.u = f.k == 0 ? Vec3{0.0, l.z, -l.y} : (f.k == 1 ? Vec3{-l.z, 0.0, l.x} : Vec3{l.y, -l.x, 0.0});
+    f.w = cross(l, f.u);
+    f.uu = dot(f.u, f.u);
+    auto mx = [](const Vec3& a) { return std::fmax(std::fabs(a.x), std::fmax(std::fabs(a.y), std::fabs(a.z))); };
+    f.scale = std::fmax(std::fmax(mx(f.u), mx(f.w)), mx(l) * mx(f.u));
+    return f;
+}
+
+// Scratch buffers reused between tests (one per traversal; never shared between threads).
+struct ProjectionScratch {
+    std::vector<double> X, Y;
+};
+
+// Projects p relative to the reference vertex c: X = fl(fl(p - c) . u), Y = fl(fl(p - c) . w~).
+// With d = fl(p - c) and D1 = |d|_1, the exact projections X* = (p - c) . u, Y* = (p - c) . w
+// (w = l x u exactly) satisfy |X - X*| <= (gamma_3 + 1.01 eps) D1 max|u_j| and
+// |Y - Y*| <= (gamma_3 + 1.01 eps) D1 max|w~_j| + D1 max|w~_j - w_j| with
+// |w~_j - w_j| <= gamma_2 * 2 max|l_j| max|u_j|; so both are within 9 eps D1 scale, and
+// delta = 16 eps max(D1) scale bounds every coordinate of the contour (and of o).
+inline double project(const Vec3& p, const Vec3& c, const ProjectionFrame& f, double& X, double& Y) {
+    const Vec3 d = p - c;
+    X = dot(d, f.u);
+    Y = dot(d, f.w);
+    return std::fabs(d.x) + std::fabs(d.y) + std::fabs(d.z);
+}
+
+// The line search of [SPO10] on the projected polygon ("sct" steps 1-2): the loop is projected
+// into `s` (X, Y relative to its first vertex) as the search goes, and searched along the line
+// Y = Ym through the projection (Xm, Ym) of m (the mean, kernel_point). Edge (a, b) keeps the
+// side cross2(b - a, p - a) > 0 for a counter-clockwise polygon (< 0 clockwise); on the line
+// that is a half-line bounded by x* = a_x + e_x (Ym - a_y) / e_y. Both orientations are searched
+// in the same pass, which stops as soon as both intervals are empty (no kernel point on the
+// line). On success o is the 3D point that projects to the middle of the overlap,
+// o = m + ((xo - Xm) / |u|^2) u (o may be m itself), and d1 the largest |p - first vertex|_1
+// (the error bound of the projections). `visited`: the edges examined.
+inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V, const ProjectionFrame& f,
+                                const Vec3& m, ProjectionScratch& s, Vec3& o, double& d1, int32_t& visited) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    s.X.resize(n);
+    s.Y.resize(n);
+    double* X = s.X.data();
+    double* Y = s.Y.data();
+    const Vec3 c = load(V, loop[0]);
+    double Xm, Ym;
+    project(m, c, f, Xm, Ym);
+    d1 = project(c, c, f, X[0], Y[0]);
+    double lo[2] = {-inf, -inf}, hi[2] = {inf, inf};  // [0]: counter-clockwise, [1]: clockwise
+    for (int32_t i = 0; i < n; ++i) {
+        const int32_t j = i + 1 == n ? 0 : i + 1;
+        if (j != 0) d1 = std::fmax(d1, project(load(V, loop[j]), c, f, X[j], Y[j]));
+        const double ex = X[j] - X[i], ey = Y[j] - Y[i];
+        if (ey == 0.0) {  // edge parallel to the line: all or nothing
+            const double side = ex * (Ym - Y[i]);
+            if (!(side > 0)) lo[0] = inf;
+            if (!(side < 0)) lo[1] = inf;
+        } else {
+            const double x = X[i] + ex * (Ym - Y[i]) / ey;
+            if (ey > 0) {
+                hi[0] = std::fmin(hi[0], x);
+                lo[1] = std::fmax(lo[1], x);
+            } else {
+                lo[0] = std::fmax(lo[0], x);
+                hi[1] = std::fmin(hi[1], x);
+            }
+        }
+        if (!(lo[0] < hi[0]) && !(lo[1] < hi[1])) {
+            visited = i + 1;
+            return false;
+        }
+    }
+    visited = n;
+    for (int k = 0; k < 2; ++k)
+        if (lo[k] < hi[k] && std::isfinite(lo[k]) && std::isfinite(hi[k])) {
+            const double xo = 0.5 * (lo[k] + hi[k]);
+            o = m + ((xo - Xm) / f.uu) * f.u;
+            return true;
+        }
+    return false;
+}
+
+}  // namespace conecull
