@@ -133,6 +133,46 @@ bool apart_in_projection(const Vec3 P[3], const Vec3 Q[3]) {
     return false;
 }
 
+// The index of the corner alone strictly on its side of the other plane, when the three signs
+// are all non-zero and not all alike (the plane cuts the triangle); -1 otherwise.
+int lone_corner(const int o[3]) {
+    if (o[0] == 0 || o[1] == 0 || o[2] == 0) return -1;
+    if (o[1] == o[2]) return o[0] != o[1] ? 0 : -1;
+    return o[0] == o[1] ? 2 : 1;
+}
+
+// Each plane cuts the other triangle, no corner on a plane (the generic case of crossing
+// neighbours): P n plane(Q) and Q n plane(P) are segments of the line L = plane(P) n plane(Q),
+// and the triangles meet iff the segments overlap. Two orient3d signs order their ends along L
+// (as Guigue & Devillers 2003; derived here for our orient3d):
+//
+//   Normalise: p1 the lone corner of P, on the + side of Q's plane; q1 the lone corner of Q, on
+//   the + side of P's plane (rotations keep a triangle's orientation; swapping the two other
+//   corners of one triangle flips the other's signs against its plane). Let n_P, n_Q be the
+//   normals, d = n_P x n_Q (non-zero: the planes cross), i, j where p1p2, p1p3 cross plane(Q),
+//   and k, l where q1q2, q1q3 cross plane(P); all four lie on L. With i = p1 + s (p2 - p1),
+//   k = q1 + t (q2 - q1), s, t in (0, 1], column operations give
+//     det[p2 - p1, q1 - p1, q2 - p1] = det[i - p1, k - i, k - q1] / (s t),
+//   and with k - i = lambda d, u = i - p1 = a d + b (n_P x d) (b > 0: n_Q . u = -b |d|^2 < 0 as
+//   u runs from the + side to plane(Q)) and w = k - q1 = c d + e (n_Q x d) (e < 0 likewise),
+//     det[u, d, w] = b e det[n_P x d, d, n_Q x d] = -b e |d|^4 > 0.
+//   So orient3d(p1, p2, q1, q2) = sign(lambda): the order of i and k along d; likewise
+//   orient3d(p1, p3, q1, q3) orders j and l. (i - p1) x (j - p1) . n_P > 0 puts j before i
+//   along d, (k - q1) x (l - q1) . n_Q > 0 puts k before l, so the closed segments [j, i] and
+//   [k, l] overlap iff k <= i and j <= l.
+// Checked against the rational oracle (tests/elementary).
+bool crossing_planes_meet(const Vec3 P[3], const Vec3 Q[3], const int op[3], const int oq[3], int lp, int lq) {
+    const Vec3* p1 = &P[lp];
+    const Vec3* p2 = &P[(lp + 1) % 3];
+    const Vec3* p3 = &P[(lp + 2) % 3];
+    const Vec3* q1 = &Q[lq];
+    const Vec3* q2 = &Q[(lq + 1) % 3];
+    const Vec3* q3 = &Q[(lq + 2) % 3];
+    if (oq[lp] < 0) std::swap(q2, q3);  // oq: P's corners against Q's plane
+    if (op[lq] < 0) std::swap(p2, p3);  // op: Q's corners against P's plane
+    return orient3d(*p1, *p2, *q1, *q2) <= 0 && orient3d(*p1, *p3, *q1, *q3) >= 0;
+}
+
 bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
     // Plane rejection: one triangle strictly on one side of the other's plane. Filtered signs
     // first; where they fail, the 2D proof above before the exact fallback.
@@ -156,8 +196,11 @@ bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
         }
         if (strictly_one_side(op[0], op[1], op[2]) || strictly_one_side(oq[0], oq[1], oq[2])) return false;
     }
-    // Every sign is now known: an edge meets the other triangle only if its ends are not
-    // strictly on one side of that triangle's plane.
+    // Every sign is now known. Generic crossing planes: two more signs decide.
+    const int lp = lone_corner(oq), lq = lone_corner(op);
+    if (lp >= 0 && lq >= 0) return crossing_planes_meet(P, Q, op, oq, lp, lq);
+    // Otherwise an edge meets the other triangle only if its ends are not strictly on one side
+    // of that triangle's plane.
     for (int i = 0; i < 3; ++i) {
         const int j = (i + 1) % 3;
         if (segment_meets_triangle_sides(P[i], P[j], Q[0], Q[1], Q[2], oq[i], oq[j])) return true;
@@ -200,6 +243,15 @@ bool collide_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
     }
     const int oa = orient3d(Q[0], Q[1], Q[2], P[1]), ob = orient3d(Q[0], Q[1], Q[2], P[2]);
     if (oa * ob > 0) return false;
+    // Generic: a, b strictly on opposite sides of Q's plane, c, d of P's. Then P n plane(Q) =
+    // [v, x] with x inside ab, Q n plane(P) = [v, y] with y inside cd, both on the line
+    // L = plane(P) n plane(Q) through v, and the triangles meet beyond v iff x and y lie on the
+    // same side of v. Along d = n_P x n_Q (coordinates xi, eta; v at 0) the identity of
+    // crossing_planes_meet holds without normalising, with sign(det[x - a, d, y - c]) = oa oc:
+    // for the segments a->b, c->v it gives orient3d(a, b, c, v) = sign(0 - xi) oa oc, for a->v,
+    // c->d orient3d(a, v, c, d) = sign(eta - 0) oa oc. As orient3d(a, b, c, v) = -oc and
+    // orient3d(a, v, c, d) = -oa (4-cycles of the points), sign(xi) = oa and sign(eta) = -oc.
+    if (oa != 0 && ob != 0 && oc != 0 && od != 0) return oa * oc < 0;
     for (int i = 0; i < 3; ++i) {
         if (segment_meets_triangle_beyond(P[i], P[(i + 1) % 3], v, Q[1], Q[2])) return true;
         if (segment_meets_triangle_beyond(Q[i], Q[(i + 1) % 3], v, P[1], P[2])) return true;
