@@ -148,7 +148,7 @@ void bind_collider(py::module_& m) {
              "threads: the queries' default thread count, 0 for all cores.")
         .def(
             "dcd",
-            [](PyCollider& self, const F64Array& V, bool trace, int threads) {
+            [](PyCollider& self, const F64Array& V, bool trace, int threads, bool stop_at_first) {
                 require_shape(V, "V", self.collider.topology().n_vertices, 3);
                 check_threads(threads);
                 DcdResult res;
@@ -156,7 +156,7 @@ void bind_collider(py::module_& m) {
                 {
                     py::gil_scoped_release release;
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads);
+                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads, stop_at_first);
                 }
                 py::array_t<int64_t> pairs({static_cast<py::ssize_t>(res.pairs.size()), py::ssize_t(2)});
                 int64_t* p = pairs.mutable_data();
@@ -167,9 +167,10 @@ void bind_collider(py::module_& m) {
                 py::object tr = trace ? py::object(trace_dict(tracer)) : py::object(py::none());
                 return py::make_tuple(pairs, stats_dict(res.stats, self.collider.method()), tr);
             },
-            py::arg("V"), py::arg("trace") = false, py::arg("threads") = 0,
+            py::arg("V"), py::arg("trace") = false, py::arg("threads") = 0, py::arg("stop_at_first") = false,
             "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).\n"
-            "threads: 0 for the collider's default; the results do not depend on it.")
+            "threads: 0 for the collider's default; the results do not depend on it. stop_at_first: stop the\n"
+            "elementary tests at the first colliding pair in traversal order (pairs: it, or none).")
         .def(
             "ccd",
             [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace,

@@ -1,6 +1,7 @@
 #include "conecull/collider.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <type_traits>
@@ -130,7 +131,7 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
 }
 
 template <class Tracer>
-void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult& res) {
+void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult& res, bool stop_at_first) {
     DcdStats& st = res.stats;
     auto t0 = Clock::now();
     traverse(Discrete{V}, tracer, st);
@@ -141,16 +142,44 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     const int32_t* F = topo_->faces.data();
     const CandidateList& candidates = candidate_list_;
     const Chunks ch(candidates.size(), query_threads_, 512);
+    const auto collide = [&](const TrianglePair& c) {
+        const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
+        const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
+        const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
+        const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
+        const bool hit = triangles_collide(fp, P, fq, Q);
+        if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
+        return hit;
+    };
+    if (stop_at_first) {
+        // The first colliding candidate in traversal order. A chunk after one that has a hit is
+        // skipped; every chunk before the final first one has run to its end, so the answer and
+        // the count of tests up to it do not depend on the threads.
+        std::atomic<int64_t> first{ch.count};
+        std::vector<std::pair<int64_t, TrianglePair>> hit_of(ch.count, {-1, {}});
+        parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
+            if (k > first.load(std::memory_order_relaxed)) return;
+            TrianglePair hit{};
+            const int64_t i = candidates.find_in_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
+                hit = c;
+                return collide(c);
+            });
+            if (i == ch.end(k)) return;
+            hit_of[k] = {i, hit};
+            for (int64_t f = first.load(); k < f && !first.compare_exchange_weak(f, k);) {
+            }
+        });
+        const int64_t k = first.load();
+        if (k < ch.count) res.pairs.push_back(hit_of[k].second);
+        st.elementary_tests = k < ch.count ? hit_of[k].first + 1 : candidates.size();
+        st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
+        st.seconds_elementary = seconds_since(t0);
+        return;
+    }
     std::vector<Padded<std::vector<TrianglePair>>> hits(ch.count);
     parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
         candidates.for_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
-            const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
-            const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
-            const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
-            const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
-            const bool hit = triangles_collide(fp, P, fq, Q);
-            if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
-            if (hit) hits[k].value.push_back(c);
+            if (collide(c)) hits[k].value.push_back(c);
         });
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
@@ -160,7 +189,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     st.seconds_elementary = seconds_since(t0);
 }
 
-DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int threads) {
+DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int threads, bool stop_at_first) {
     DcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
@@ -170,7 +199,7 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
     else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
-    with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res); });
+    with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res, stop_at_first); });
     return res;
 }
 

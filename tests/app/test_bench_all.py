@@ -84,5 +84,6 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     r = rows[0]
     assert r["ours_fn"] == 0 and r["ours_fp"] == 0 and r["ipctk_fn"] == 0
     assert r["candidates"] > 0 and r["ipctk_intersecting"] == r["ours_intersecting"]
+    assert r["ours_first_hit_ms"] > 0 and r["first_hit_speedup"] == r["has_intersections_ms"] / r["ours_first_hit_ms"]
     rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # the cap: narrow phase not run, stated
     assert "ipctk_narrow_ms" not in rows[0] and "not run" in capsys.readouterr().out

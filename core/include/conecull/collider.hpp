@@ -64,7 +64,10 @@ class SelfCollider {
     // built from the first pose given. With a tracer, the query's events are appended to it.
     // threads: this query's thread count, <= 0 for the collider's default. Results and counters
     // are the same for any thread count; a traced query runs on one thread (events in order).
-    DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0);
+    // stop_at_first: the elementary tests stop at the first colliding candidate in traversal
+    // order ("is this pose intersection-free?"): res.pairs holds it, or nothing, and
+    // stats.elementary_tests counts the tests up to it (the same for any thread count).
+    DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0, bool stop_at_first = false);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
@@ -85,7 +88,7 @@ class SelfCollider {
     template <class Tracer, class Motion>
     void traverse(const Motion& motion, Tracer& tracer, DcdStats& stats);
     template <class Tracer>
-    void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res);
+    void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res, bool stop_at_first);
     template <class Tracer>
     void ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer, CcdResult& res);
 

@@ -208,14 +208,20 @@ class SelfCollider:
         """The queries' default thread count (all cores resolved to a number)."""
         return self._core.threads
 
-    def dcd(self, V, trace: bool = False, threads: int | None = None) -> DcdResult:
+    def dcd(self, V, trace: bool = False, threads: int | None = None, stop_at_first: bool = False) -> DcdResult:
         """Discrete self-collision query at positions V (n, 3); trace=True also records its events.
-        threads: this query's thread count (None: the collider's)."""
+        threads: this query's thread count (None: the collider's).
+        stop_at_first=True answers "is this pose intersection-free?": the elementary tests stop at
+        the first colliding pair in traversal order, which `pairs` then holds (else it is empty);
+        stats["elementary_tests"] counts the tests up to it. The traversal is the full one (a
+        front method's front stays complete), and the answer is the same for any thread count."""
         if not isinstance(trace, (bool, np.bool_)):
             raise ValueError(f"trace: expected True or False, got {trace!r}")
+        if not isinstance(stop_at_first, (bool, np.bool_)):
+            raise ValueError(f"stop_at_first: expected True or False, got {stop_at_first!r}")
         t = _as_threads(threads)
         a = _as_positions(V, self.mesh.n_vertices)
-        pairs, stats, raw = self._core.dcd(a, bool(trace), t)
+        pairs, stats, raw = self._core.dcd(a, bool(trace), t, bool(stop_at_first))
         return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
 
     def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False,

@@ -51,6 +51,17 @@ struct CandidateList {
             b = hi;
         }
     }
+    // fn(pair) for the candidates [b, e) in order until it returns true: the index of that
+    // candidate, or e.
+    template <class Fn>
+    int64_t find_in_range(int64_t b, int64_t e, const Fn& fn) const {
+        int64_t i = b, found = e;
+        for_range(b, e, [&](const TrianglePair& c) {
+            if (found == e && fn(c)) found = i;
+            ++i;
+        });
+        return found;
+    }
     void set(const std::vector<TrianglePair>& all) {
         whole = &all;
         parts = nullptr;

@@ -1,0 +1,78 @@
+"""dcd(V, stop_at_first=True), the "is this pose intersection-free?" query: on every generated
+case and method it reports a colliding pair iff the brute-force oracle finds one, that pair is
+the first colliding candidate of the full traced query, the test count stops there, and all of it
+is the same for any thread count. A front method's front is left complete."""
+
+import functools
+
+import numpy as np
+import pytest
+
+import conecull
+import meshcases
+from conecull.datasets.generated import grid_sheet
+from oracle import brute_force_pairs
+from thread_cases import THREADS
+
+CASES = meshcases.all_cases()
+
+
+@functools.lru_cache(maxsize=None)
+def oracle_pairs(name):
+    _, F, V = next(c for c in CASES if c[0] == name)
+    return frozenset(brute_force_pairs(F, V))
+
+
+@pytest.mark.parametrize("name", [c[0] for c in CASES])
+def test_first_hit_matches_oracle_and_full_query(name):
+    _, F, V = next(c for c in CASES if c[0] == name)
+    expect = oracle_pairs(name)
+    mesh = conecull.Mesh(F, n_vertices=len(V))
+    for method in conecull.METHODS:
+        full = conecull.SelfCollider(mesh, method=method, leaf_size=1).dcd(V, trace=True)
+        events = full.trace.elementary
+        hits = np.flatnonzero(events["result"])
+        first = None
+        for threads in THREADS:
+            res = conecull.SelfCollider(mesh, method=method, leaf_size=1).dcd(V, threads=threads, stop_at_first=True)
+            got = [tuple(p) for p in res.pairs.tolist()]
+            assert len(got) == (1 if expect else 0), (name, method, threads, got)
+            if expect:
+                assert got[0] in expect
+                # the first colliding candidate in traversal order, and the tests up to it
+                assert got[0] == tuple(sorted(events["pair"][hits[0]].tolist()))
+                assert res.stats["elementary_tests"] == hits[0] + 1
+            else:
+                assert res.stats["elementary_tests"] == full.stats["elementary_tests"]
+            assert res.stats["colliding_pairs"] == len(got)
+            first = first or (got, res.stats["elementary_tests"])
+            assert (got, res.stats["elementary_tests"]) == first, "thread counts disagree"
+
+
+def test_first_hit_keeps_the_front_and_traces_up_to_the_hit():
+    """Stopping the tests does not stop the traversal: the front after a stop_at_first query is
+    the front of a full query; a traced first-hit query records the tests up to the hit."""
+    F, V = grid_sheet(16, 16)
+    V = V.copy()
+    fold = V[:, 0] > 0.5
+    V[fold, 0] = 1.0 - V[fold, 0]  # folded flat onto itself: many coplanar overlaps
+    mesh = conecull.Mesh(F, n_vertices=len(V))
+    a = conecull.SelfCollider(mesh, method="nc+front")
+    b = conecull.SelfCollider(mesh, method="nc+front")
+    ra = a.dcd(V)
+    rb = b.dcd(V, stop_at_first=True)
+    assert len(ra.pairs) > 1 and len(rb.pairs) == 1 and tuple(rb.pairs[0]) in {tuple(p) for p in ra.pairs.tolist()}
+    fa, fb = a.front_arrays(), b.front_arrays()
+    assert all(np.array_equal(fa[k], fb[k]) for k in fa)
+    # the next full query from that front is exact
+    assert np.array_equal(b.dcd(V).pairs, ra.pairs)
+    rt = conecull.SelfCollider(mesh, method="nc").dcd(V, trace=True, stop_at_first=True)
+    ev = rt.trace.elementary
+    assert len(ev["result"]) == rt.stats["elementary_tests"] and ev["result"][-1] and not ev["result"][:-1].any()
+
+
+def test_stop_at_first_bad_value():
+    F, V = grid_sheet(3, 3)
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)))
+    with pytest.raises(ValueError, match="stop_at_first"):
+        col.dcd(V, stop_at_first="yes")
