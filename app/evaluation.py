@@ -431,7 +431,9 @@ def _plots(results, out):
         x = np.arange(len(bars))
         for i, m in enumerate(methods):
             ax.bar(x + i * w, [r[f"{kind}_ms"].get(m, np.nan) for r in bars], w, label=m)
-        ax.set_xticks(x + 0.4 - w / 2, [f"{r['scene']}\n{r['triangles'] // 1000}K" for r in bars], fontsize=8)
+        # step names are long: a line break at the first '-' or ' (' keeps neighbours apart
+        names = [r["scene"].replace("-", "-\n", 1).replace(" (", "\n(", 1) for r in bars]
+        ax.set_xticks(x + 0.4 - w / 2, [f"{n}\n{r['triangles'] // 1000}K" for n, r in zip(names, bars)], fontsize=8)
         ax.set_yscale("log")
         ax.set_ylabel("ms per query (log)")
         ax.set_title(f"Fig. 10: {'DCD' if kind == 'dcd' else 'CCD (exact)'} query time per method, one thread")
