@@ -641,3 +641,16 @@ def case(name):
         if n == name:
             return n, F, V
     raise KeyError(name)
+
+
+_ORACLE = {}
+
+
+def oracle_pairs(name):
+    """The brute-force oracle's colliding pairs of case `name`, as a frozenset (computed once)."""
+    if name not in _ORACLE:
+        from oracle import brute_force_pairs
+
+        _, F, V = case(name)
+        _ORACLE[name] = frozenset(brute_force_pairs(F, V))
+    return _ORACLE[name]

@@ -1,35 +1,26 @@
 """Both methods return exactly the brute-force oracle's colliding pairs (sets, not counts) on
 every generated case, for leaf sizes 1 and 4; and "nc" really culls."""
 
-import functools
-
 import numpy as np
 import pytest
 
 import conecull
 import meshcases
 from conecull.datasets.generated import bending_sheet
-from oracle import brute_force_pairs
 
 CASES = meshcases.all_cases()
 
 
-@functools.lru_cache(maxsize=None)
-def oracle_pairs(name):
-    _, F, V = next(c for c in CASES if c[0] == name)
-    return frozenset(brute_force_pairs(F, V))
-
-
 def test_enough_cases():
     assert len(CASES) >= 40
-    colliding = sum(1 for name, _, _ in CASES if oracle_pairs(name))
+    colliding = sum(1 for name, _, _ in CASES if meshcases.oracle_pairs(name))
     assert colliding >= 25 and len(CASES) - colliding >= 5
 
 
 @pytest.mark.parametrize("name", [c[0] for c in CASES])
 def test_methods_equal_oracle(name):
-    _, F, V = next(c for c in CASES if c[0] == name)
-    expect = oracle_pairs(name)
+    _, F, V = meshcases.case(name)
+    expect = meshcases.oracle_pairs(name)
     mesh = conecull.Mesh(F, n_vertices=len(V))
     for method in conecull.METHODS:
         for leaf_size in (1, 4):

@@ -3,30 +3,21 @@ case and method it reports a colliding pair iff the brute-force oracle finds one
 the first colliding candidate of the full traced query, the test count stops there, and all of it
 is the same for any thread count. A front method's front is left complete."""
 
-import functools
-
 import numpy as np
 import pytest
 
 import conecull
 import meshcases
 from conecull.datasets.generated import grid_sheet
-from oracle import brute_force_pairs
 from thread_cases import THREADS
 
 CASES = meshcases.all_cases()
 
 
-@functools.lru_cache(maxsize=None)
-def oracle_pairs(name):
-    _, F, V = next(c for c in CASES if c[0] == name)
-    return frozenset(brute_force_pairs(F, V))
-
-
 @pytest.mark.parametrize("name", [c[0] for c in CASES])
 def test_first_hit_matches_oracle_and_full_query(name):
-    _, F, V = next(c for c in CASES if c[0] == name)
-    expect = oracle_pairs(name)
+    _, F, V = meshcases.case(name)
+    expect = meshcases.oracle_pairs(name)
     mesh = conecull.Mesh(F, n_vertices=len(V))
     for method in conecull.METHODS:
         full = conecull.SelfCollider(mesh, method=method, leaf_size=1).dcd(V, trace=True)
