@@ -104,22 +104,14 @@ void bind_ccd(py::module_& m) {
            std::optional<F64Array> o) {
             require_shape(V0, "V0", -1, 3);
             require_shape(V1, "V1", V0.shape(0), 3);
-            if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
-            if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
-            for (py::ssize_t i = 0; i < loop.shape(0); ++i)
-                if (loop.data()[i] < 0 || loop.data()[i] >= V0.shape(0)) throw py::value_error("loop: index out of range");
-            const Vec3 axis{l.data()[0], l.data()[1], l.data()[2]};
+            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            const std::optional<Vec3> ray = opt_vec3(r, "r"), kernel = opt_vec3(o, "o");
-            const auto at = [&](const Vec3& k) {
-                if (ray) return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, *ray, k);
-                return with_ray_retry(axis, [&](const Vec3& d) {
+            return contour_test_choosing(
+                axis, opt_vec3(r, "r"), opt_vec3(o, "o"), [&] { return kernel_point(loop.data(), n, V0.data()); },
+                [&](const Vec3& d, const Vec3& k) {
                     return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, d, k);
-                });
-            };
-            if (kernel) return verdict_dict(at(*kernel));
-            if (ray) return verdict_dict(at(kernel_point(loop.data(), n, V0.data())));
-            return verdict_dict(unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis));
+                },
+                [&] { return unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis); });
         },
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; o (kernel point, fixed over the step) and r\n"

@@ -32,9 +32,6 @@ py::dict verdict_dict(const ContourVerdict& v) {
     return d;
 }
 
-namespace {
-
-// Validated (loop, axis) of the single-loop tests; positions checked by the caller.
 Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
     if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
     if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
@@ -42,8 +39,6 @@ Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Arra
         if (loop.data()[i] < 0 || loop.data()[i] >= n_vertices) throw py::value_error("loop: index out of range");
     return {l.data()[0], l.data()[1], l.data()[2]};
 }
-
-}  // namespace
 
 void bind_contour(py::module_& m) {
     m.def(
@@ -53,15 +48,12 @@ void bind_contour(py::module_& m) {
             require_shape(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            const std::optional<Vec3> ray = opt_vec3(r, "r"), kernel = opt_vec3(o, "o");
-            const auto at = [&](const Vec3& k) {  // one kernel point: the given ray, or the core's rays
-                if (ray) return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, *ray, k);
-                return with_ray_retry(
-                    axis, [&](const Vec3& d) { return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, d, k); });
-            };
-            if (kernel) return verdict_dict(at(*kernel));
-            if (ray) return verdict_dict(at(kernel_point(loop.data(), n, V.data())));
-            return verdict_dict(unprojected_contour_test(loop.data(), n, V.data(), axis));
+            return contour_test_choosing(
+                axis, opt_vec3(r, "r"), opt_vec3(o, "o"), [&] { return kernel_point(loop.data(), n, V.data()); },
+                [&](const Vec3& d, const Vec3& k) {
+                    return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, d, k);
+                },
+                [&] { return unprojected_contour_test(loop.data(), n, V.data(), axis); });
         },
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,). By default the core's\n"

@@ -24,8 +24,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <limits>
-#include <vector>
 
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/contour/kernel_point.hpp"
