@@ -6,13 +6,6 @@
 
 namespace conecull {
 
-namespace {
-
-constexpr double kConeSlack = 1e-12;  // as in normal_cone.cpp
-constexpr double kFlushBelow = 0x1p-60;
-
-}  // namespace
-
 NormalCone control_vector_cone(const Vec3* u, const Vec3* w, int terms) {
     Vec3 n;
     double abs_products = 0.0;
@@ -28,13 +21,11 @@ NormalCone control_vector_cone(const Vec3* u, const Vec3* w, int terms) {
     // exact and does not change the direction, so it is skipped.
     const double err = 12.0 * kEps * abs_products;
     const double len = norm(n);
-    const double r = err / len;
+    const double inv_len = 1.0 / len;
+    const double r = err * inv_len;
     if (!(len > 0.0) || !(r < 0.5) || !std::isfinite(len)) return NormalCone::full();
     NormalCone cone;
-    cone.axis = {n.x / len, n.y / len, n.z / len};
-    if (std::fabs(cone.axis.x) < kFlushBelow) cone.axis.x = 0.0;
-    if (std::fabs(cone.axis.y) < kFlushBelow) cone.axis.y = 0.0;
-    if (std::fabs(cone.axis.z) < kFlushBelow) cone.axis.z = 0.0;
+    cone.axis = unit_axis(n, inv_len);
     cone.cos_bound = 1.0 - r - kConeSlack;
     cone.sin_bound = r + kConeSlack;
     return cone;
