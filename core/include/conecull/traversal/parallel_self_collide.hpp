@@ -39,27 +39,40 @@ struct CandidateList {
     // fn(pair) for the candidates [b, e), in order.
     template <class Fn>
     void for_range(int64_t b, int64_t e, const Fn& fn) const {
+        for_range(b, e, fn, [](const TrianglePair&, int) {});
+    }
+    // The same, and ahead(pair, d) for the pair d = 8 and d = 16 places later (same part), so
+    // that the caller can prefetch what that pair's test will load.
+    template <class Fn, class Ahead>
+    void for_range(int64_t b, int64_t e, const Fn& fn, const Ahead& ahead) const {
+        const auto run = [&](const TrianglePair* p, int64_t i, int64_t end) {
+            for (; i < end; ++i) {
+                if (i + 16 < end) ahead(p[i + 16], 16);
+                if (i + 8 < end) ahead(p[i + 8], 8);
+                fn(p[i]);
+            }
+        };
         if (whole) {
-            for (int64_t i = b; i < e; ++i) fn((*whole)[i]);
+            run(whole->data(), b, e);
             return;
         }
         size_t k = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), b) - offset.begin()) - 1;
         for (; b < e; ++k) {
             const std::vector<TrianglePair>& p = (*parts)[k].value;
             const int64_t hi = std::min(e, offset[k + 1]);
-            for (int64_t i = b - offset[k], end = hi - offset[k]; i < end; ++i) fn(p[i]);
+            run(p.data(), b - offset[k], hi - offset[k]);
             b = hi;
         }
     }
     // fn(pair) for the candidates [b, e) in order until it returns true: the index of that
-    // candidate, or e.
-    template <class Fn>
-    int64_t find_in_range(int64_t b, int64_t e, const Fn& fn) const {
+    // candidate, or e. ahead as for for_range.
+    template <class Fn, class Ahead>
+    int64_t find_in_range(int64_t b, int64_t e, const Fn& fn, const Ahead& ahead) const {
         int64_t i = b, found = e;
         for_range(b, e, [&](const TrianglePair& c) {
             if (found == e && fn(c)) found = i;
             ++i;
-        });
+        }, ahead);
         return found;
     }
     void set(const std::vector<TrianglePair>& all) {
