@@ -19,16 +19,7 @@ NormalCone control_vector_cone(const Vec3* u, const Vec3* w, int terms) {
     // Per cross product the error is below 9 eps of its absolute products (triangle_cone);
     // summing up to two of them adds eps of the same; 12 eps keeps a margin. Scaling by 1/2 is
     // exact and does not change the direction, so it is skipped.
-    const double err = 12.0 * kEps * abs_products;
-    const double len = norm(n);
-    const double inv_len = 1.0 / len;
-    const double r = err * inv_len;
-    if (!(len > 0.0) || !(r < 0.5) || !std::isfinite(len)) return NormalCone::full();
-    NormalCone cone;
-    cone.axis = unit_axis(n, inv_len);
-    cone.cos_bound = 1.0 - r - kConeSlack;
-    cone.sin_bound = r + kConeSlack;
-    return cone;
+    return cone_around(n, 12.0 * kEps * abs_products);
 }
 
 NormalCone triangle_cone_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& a1, const Vec3& b1,
