@@ -26,11 +26,9 @@ struct FrontEntry {
 // Sub-segments built one after another (by a query, or by one task of the parallel traversal).
 struct FrontPart {
     std::vector<FrontEntry> entries;
-    std::vector<uint8_t> mergeable;
     std::vector<int32_t> nodes;  // parallel traversal only: X with begin[X] into `entries`
     void clear() {
         entries.clear();
-        mergeable.clear();
         nodes.clear();
     }
 };
@@ -46,10 +44,9 @@ struct BvttFront {
     std::vector<uint64_t> tracked;
     uint64_t query = 0;  // queries answered with this front (so 0: never tracked)
 
-    // Being built by the current query: the new sub-segments (their entries, and per entry
-    // whether it may merge with a sibling: its boxes are apart and it was not just made by
-    // descending a parent whose boxes overlap). The parallel traversal builds one such part per
-    // task (`nodes`: the X whose begin[X] is relative to the part) and concatenates them here.
+    // Being built by the current query: the new sub-segments. The parallel traversal builds one
+    // such part per task (`nodes`: the X whose begin[X] is relative to the part) and
+    // concatenates them here.
     FrontPart next;
 
     void reset(const Bvh& bvh) {

@@ -259,6 +259,7 @@ class SelfCollideTraversal {
         BvttFront& f = *front_;
         FrontPart& next = *part_;
         const size_t start = next.entries.size();
+        mergeable_run_ = 0;  // a new sub-segment: nothing before it may merge
         if (!f.is_tracked(n)) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
@@ -279,12 +280,12 @@ class SelfCollideTraversal {
                 if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
                 if (!overlap) {
                     next.entries.push_back(e);
-                    next.mergeable.push_back(true);
-                    merge_apart_siblings(start);
+                    ++mergeable_run_;
+                    if (mergeable_run_ >= 2) merge_apart_siblings();
                 } else if (na.is_leaf() && nb.is_leaf()) {
                     emit_leaves(na, nb);
                     next.entries.push_back(e);
-                    next.mergeable.push_back(false);
+                    mergeable_run_ = 0;
                 } else {
                     descend<true>(e.a, e.b);  // the front grows below e
                 }
@@ -298,17 +299,16 @@ class SelfCollideTraversal {
 
     void push_front(FrontEntry e, bool mergeable) {
         part_->entries.push_back(e);
-        part_->mergeable.push_back(mergeable);
+        mergeable_run_ = mergeable ? mergeable_run_ + 1 : 0;
         ++stats_.front_added;
     }
 
-    // The front shrinks: while the last two entries of the sub-segment (from `start`) are apart
-    // siblings and their parent's boxes are apart too, replace them by the parent (which may
+    // The front shrinks: while the last two entries of the sub-segment are apart siblings that
+    // may merge and their parent's boxes are apart too, replace them by the parent (which may
     // merge again, with its own sibling).
-    void merge_apart_siblings(size_t start) {
+    void merge_apart_siblings() {
         std::vector<FrontEntry>& next = part_->entries;
-        std::vector<uint8_t>& mergeable = part_->mergeable;
-        while (next.size() - start >= 2 && mergeable[next.size() - 1] && mergeable[next.size() - 2]) {
+        while (mergeable_run_ >= 2) {
             FrontEntry p;
             if (!BvttFront::parent_of(bvh_, next[next.size() - 2], next.back(), p)) return;
             ++stats_.bv_tests;
@@ -316,7 +316,7 @@ class SelfCollideTraversal {
             if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(p.a, p.b, overlap);
             if (overlap) return;
             next.resize(next.size() - 2);
-            mergeable.resize(mergeable.size() - 2);
+            mergeable_run_ -= 2;
             push_front(p, true);
         }
     }
@@ -333,6 +333,11 @@ class SelfCollideTraversal {
     BvttFront* front_;  // kTrackFront only
     FrontPart* part_;   // where the new sub-segments go
     bool rebase_;       // part_ is a task's: record the nodes whose begin[] is relative to it
+    // How many entries at the end of the sub-segment being built may merge with a sibling: their
+    // boxes are apart and they were not just made by descending a parent whose boxes overlap. A
+    // merge only ever looks at the last two, and replaces them by one that may merge again, so
+    // this count is all it needs (one sub-segment is built at a time).
+    int32_t mergeable_run_ = 0;
 };
 
 }  // namespace conecull
