@@ -126,18 +126,20 @@ def lerp(p0, p1, t):
     return tuple(p0[i] + (p1[i] - p0[i]) * t for i in range(3))
 
 
-def cside1_value(o, b0, c0, b1, c1, l, t):
-    """CSide1(o, b(t), c(t), l) = ((o - c(t)) x (b(t) - c(t))) . l, exactly, by its definition."""
-    o, l = fr3(o), fr3(l)
+def cside1_value(o, b0, c0, b1, c1, l, t, o1=None):
+    """CSide1(o(t), b(t), c(t), l) = ((o(t) - c(t)) x (b(t) - c(t))) . l, exactly, by its
+    definition; the kernel point moves from o to o1 (default: fixed)."""
+    o, l = lerp(o, o if o1 is None else o1, t), fr3(l)
     b, c = lerp(b0, b1, t), lerp(c0, c1, t)
     return dot(cross(sub(o, c), sub(b, c)), l)
 
 
-def cside1_coefficients(o, b0, c0, b1, c1, l):
+def cside1_coefficients(o, b0, c0, b1, c1, l, o1=None):
     """Our Bernstein coefficients (k0, k1, k2): k0 = (B0 x C0).l, k1 = (B0 x C1 + B1 x C0).l / 2,
-    k2 = (B1 x C1).l with B_t = b_t - o, C_t = c_t - o."""
-    o, l = fr3(o), fr3(l)
-    B0, C0, B1, C1 = (sub(fr3(p), o) for p in (b0, c0, b1, c1))
+    k2 = (B1 x C1).l with B_t = b_t - o_t, C_t = c_t - o_t; o_t moves from o to o1 (default: fixed)."""
+    o0, o1, l = fr3(o), fr3(o if o1 is None else o1), fr3(l)
+    B0, C0 = sub(fr3(b0), o0), sub(fr3(c0), o0)
+    B1, C1 = sub(fr3(b1), o1), sub(fr3(c1), o1)
     k0 = dot(cross(B0, C0), l)
     k1 = (dot(cross(B0, C1), l) + dot(cross(B1, C0), l)) / 2
     k2 = dot(cross(B1, C1), l)
@@ -153,24 +155,32 @@ def cside1_printed_k2(o, b0, c0, b1, c1, l):
     return dot(cross(B0, C0), l) + dot(add(cross(vb, C0), cross(vc, B0)), l) + dot(cross(vb, vc), l)
 
 
-def csidesign1(o, b0, c0, b1, c1, l) -> int:
-    k = cside1_coefficients(o, b0, c0, b1, c1, l)
+def csidesign1(o, b0, c0, b1, c1, l, o1=None) -> int:
+    k = cside1_coefficients(o, b0, c0, b1, c1, l, o1)
     s = sgn(k[0])
     return s if s != 0 and all(sgn(x) == s for x in k) else 0
 
 
-def csidesign2(v0, v1, o, r, l) -> int:
-    s0, s1 = ray_side_sign_literal(v0, o, r, l), ray_side_sign_literal(v1, o, r, l)
+def csidesign2(v0, v1, o, r, l, o1=None) -> int:
+    s0, s1 = ray_side_sign_literal(v0, o, r, l), ray_side_sign_literal(v1, o if o1 is None else o1, r, l)
     return s0 if s0 != 0 and s0 == s1 else 0
 
 
-def contour_test_ccd(pts0, pts1, l, r, o=None):
-    """Alg. 3 in exact arithmetic (with our k2). o defaults to the core's float mean at t = 0."""
+def contour_test_ccd(pts0, pts1, l, r, o=None, o1=None):
+    """Alg. 3 in exact arithmetic (with our k2), the kernel point moving from o to o1. Default:
+    the core's float means at t = 0 and t = 1; o alone: fixed at o, as printed."""
     n = len(pts0)
     if o is None:
-        o = float_mean(pts0)
-    return star_test(n, lambda i, j: csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l),
-                     lambda i: csidesign2(pts0[i], pts1[i], o, r, l))
+        o, o1 = float_mean(pts0), float_mean(pts1)
+    return star_test(n, lambda i, j: csidesign1(o, pts0[i], pts0[j], pts1[i], pts1[j], l, o1),
+                     lambda i: csidesign2(pts0[i], pts1[i], o, r, l, o1))
+
+
+def moved_kernel(o, pts0, pts1):
+    """The core's kernel point at t = 1 for a kernel point o at t = 0 other than the mean: o moved by
+    the mean's displacement, in floats as the core rounds it."""
+    m0, m1 = float_mean(pts0), float_mean(pts1)
+    return tuple(o[k] + (m1[k] - m0[k]) for k in range(3))
 
 
 # ---- Baselines (Sec. 6.1): SCT [SPO10] and CBC [TCYM09] --------------------------------------

@@ -85,37 +85,52 @@ void bind_ccd(py::module_& m) {
     m.def(
         "csidesign1",
         [](const F64Array& o, const F64Array& b0, const F64Array& c0, const F64Array& b1, const F64Array& c1,
-           const F64Array& l) {
+           const F64Array& l, std::optional<F64Array> o1) {
             require_shape(o, "o", -1, 3);
             const py::ssize_t k = o.shape(0);
             for (const auto& [arr, name] : {std::pair<const F64Array*, const char*>{&b0, "b0"}, {&c0, "c0"}, {&b1, "b1"}, {&c1, "c1"}, {&l, "l"}})
                 require_shape(*arr, name, k, 3);
+            if (o1) require_shape(*o1, "o1", k, 3);
+            const F64Array& end = o1 ? *o1 : o;
             py::array_t<int8_t> out(k);
             for (py::ssize_t i = 0; i < k; ++i)
-                out.mutable_data()[i] =
-                    static_cast<int8_t>(csidesign1(row(o, i), row(b0, i), row(c0, i), row(b1, i), row(c1, i), row(l, i)));
+                out.mutable_data()[i] = static_cast<int8_t>(
+                    csidesign1(row(o, i), row(end, i), row(b0, i), row(c0, i), row(b1, i), row(c1, i), row(l, i)));
             return out;
         },
-        py::arg("o"), py::arg("b0"), py::arg("c0"), py::arg("b1"), py::arg("c1"), py::arg("l"),
-        "CSideSign1 per row: s if the three Bernstein coefficients all have the strict sign s, else 0.");
+        py::arg("o"), py::arg("b0"), py::arg("c0"), py::arg("b1"), py::arg("c1"), py::arg("l"), py::arg("o1") = py::none(),
+        "CSideSign1 per row: s if the three Bernstein coefficients all have the strict sign s, else 0. The kernel\n"
+        "point moves from o to o1 (default: o1 = o, fixed as printed).");
     m.def(
         "contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r,
-           std::optional<F64Array> o) {
+           std::optional<F64Array> o, std::optional<F64Array> o1) {
             require_shape(V0, "V0", -1, 3);
             require_shape(V1, "V1", V0.shape(0), 3);
             const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            return contour_test_choosing(
-                axis, opt_vec3(r, "r"), opt_vec3(o, "o"), [&] { return kernel_point(loop.data(), n, V0.data()); },
-                [&](const Vec3& d, const Vec3& k) {
-                    return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, d, k);
+            const std::optional<Vec3> start = opt_vec3(o, "o"), end = opt_vec3(o1, "o1");
+            if (end && !start) throw py::value_error("o1: given without o (o1 is where the kernel point o moves to)");
+            using Ends = std::pair<Vec3, Vec3>;
+            const std::optional<Ends> kernel = start ? std::optional<Ends>(Ends{*start, end ? *end : *start}) : std::nullopt;
+            const ContourVerdict v = contour_test_choosing(
+                axis, opt_vec3(r, "r"), kernel,
+                [&] { return Ends{kernel_point(loop.data(), n, V0.data()), kernel_point(loop.data(), n, V1.data())}; },
+                [&](const Vec3& d, const Ends& k) {
+                    return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, d, k.first,
+                                                                 k.second);
                 },
                 [&] { return unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis); });
+            py::dict out = verdict_dict(v);
+            out["kernel_end"] = py::make_tuple(v.kernel_end.x, v.kernel_end.y, v.kernel_end.z);
+            return out;
         },
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
-        "Alg. 3 on the loop `loop` moving from V0 to V1, axis l; o (kernel point, fixed over the step) and r\n"
-        "(ray) as contour_test: by default the mean at t = 0, then the line-search kernel point at t = 0.");
+        py::arg("o1") = py::none(),
+        "Alg. 3 on the loop `loop` moving from V0 to V1, axis l. The kernel point moves linearly from `kernel`\n"
+        "(t = 0) to `kernel_end` (t = 1): by default the mean at t = 0 to the mean at t = 1, then the line-search\n"
+        "kernel point at t = 0 moved by the mean's displacement. o fixes it at t = 0 and o1 at t = 1 (default\n"
+        "o1 = o: fixed over the step, as printed); r fixes the ray (with r alone, the moving mean).");
 }
 
 }  // namespace conecull::bind

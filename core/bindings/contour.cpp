@@ -48,12 +48,12 @@ void bind_contour(py::module_& m) {
             require_shape(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            return contour_test_choosing(
+            return verdict_dict(contour_test_choosing(
                 axis, opt_vec3(r, "r"), opt_vec3(o, "o"), [&] { return kernel_point(loop.data(), n, V.data()); },
                 [&](const Vec3& d, const Vec3& k) {
                     return unprojected_contour_test_with_ray(loop.data(), n, V.data(), axis, d, k);
                 },
-                [&] { return unprojected_contour_test(loop.data(), n, V.data(), axis); });
+                [&] { return unprojected_contour_test(loop.data(), n, V.data(), axis); }));
         },
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,). By default the core's\n"

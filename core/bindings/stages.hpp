@@ -17,16 +17,17 @@ py::dict verdict_dict(const ContourVerdict& v);
 // Validated (loop, axis) of the single-loop contour tests; positions checked by the caller.
 Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l);
 
-// The optional choices of the single-loop tests (Alg. 1 and Alg. 3): o fixes the kernel point,
-// r the ray (with r alone, o is mean()); neither: the core's full test. attempt(r, o) runs one
-// attempt, full() the core's test (the mean, then the line-search point; ray retries).
-template <class Mean, class Attempt, class Full>
-py::dict contour_test_choosing(const Vec3& axis, const std::optional<Vec3>& ray, const std::optional<Vec3>& kernel,
-                               const Mean& mean, const Attempt& attempt, const Full& full) {
-    if (!ray && !kernel) return verdict_dict(full());
-    const Vec3 o = kernel ? *kernel : mean();
-    if (ray) return verdict_dict(attempt(*ray, o));
-    return verdict_dict(with_ray_retry(axis, [&](const Vec3& d) { return attempt(d, o); }));
+// The optional choices of the single-loop tests (Alg. 1 and Alg. 3): `kernel` fixes the kernel
+// point (K: a point; for CCD its two ends), r the ray (with r alone, the kernel is mean());
+// neither: the core's full test. attempt(r, kernel) runs one attempt, full() the core's test
+// (the mean, then the line-search point; ray retries).
+template <class K, class Mean, class Attempt, class Full>
+ContourVerdict contour_test_choosing(const Vec3& axis, const std::optional<Vec3>& ray, const std::optional<K>& kernel,
+                                     const Mean& mean, const Attempt& attempt, const Full& full) {
+    if (!ray && !kernel) return full();
+    const K o = kernel ? *kernel : mean();
+    if (ray) return attempt(*ray, o);
+    return with_ray_retry(axis, [&](const Vec3& d) { return attempt(d, o); });
 }
 
 }  // namespace conecull::bind

@@ -21,11 +21,12 @@ def bern2(k, t):
 
 
 @settings(max_examples=300, deadline=None)
-@given(pt, pt, pt, pt, pt, pt)
-def test_cside1_bernstein_coefficients(o, b0, c0, b1, c1, l):
-    k = ex.cside1_coefficients(o, b0, c0, b1, c1, l)
+@given(pt, pt, pt, pt, pt, pt, st.one_of(st.none(), pt))
+def test_cside1_bernstein_coefficients(o, b0, c0, b1, c1, l, o1):
+    """Fixed kernel point (o1 None, as printed) and moving (o -> o1, as the core runs it)."""
+    k = ex.cside1_coefficients(o, b0, c0, b1, c1, l, o1)
     for t in TS:
-        assert bern2(k, t) == ex.cside1_value(o, b0, c0, b1, c1, l, t)
+        assert bern2(k, t) == ex.cside1_value(o, b0, c0, b1, c1, l, t, o1)
 
 
 def test_printed_k2_has_a_sign_error():
@@ -58,10 +59,14 @@ def near_degenerate_motion(draw):
 
 
 @settings(max_examples=800, deadline=None)
-@given(st.one_of(st.tuples(pt, pt, pt, pt, pt, pt), near_degenerate_motion()))
-def test_csidesign1_matches_exact(args):
+@given(st.one_of(st.tuples(pt, pt, pt, pt, pt, pt), near_degenerate_motion()),
+       st.one_of(st.none(), pt, st.tuples(*[st.integers(-2, 2).map(float)] * 3)))
+def test_csidesign1_matches_exact(args, o1):
+    """Kernel point fixed (o1 None) or moving from o to o1 (lattice ends: exact degeneracies)."""
     o, b0, c0, b1, c1, l = args
-    assert C.csidesign1(*rows(o, b0, c0, b1, c1, l))[0] == ex.csidesign1(o, b0, c0, b1, c1, l)
+    got = C.csidesign1(*rows(o, b0, c0, b1, c1, l)) if o1 is None else C.csidesign1(*rows(o, b0, c0, b1, c1, l),
+                                                                                    o1=np.array([o1], float))
+    assert got[0] == ex.csidesign1(o, b0, c0, b1, c1, l, o1)
 
 
 @st.composite
@@ -88,18 +93,26 @@ def test_contour_test_ccd_matches_twin_and_is_sound(args):
     P0, P1, l = args
     ids = np.arange(len(P0), dtype=np.int32)
     Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
-    # Alg. 3's kernel point (the mean at t = 0) against the twin, with the core's ray ...
-    first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))
+    m0, m1 = ex.float_mean(Q0), ex.float_mean(Q1)
+    # Alg. 3 as printed (the mean at t = 0, fixed) against the twin, with the core's ray ...
+    fixed = C.contour_test_ccd(ids, P0, P1, l, o=np.array(m0))
+    assert fixed["kernel_end"] == fixed["kernel"] == m0
+    assert (fixed["passed"], fixed["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), fixed["ray"], o=m0)[:2]
+    # ... the core's first attempt, the mean moving from t = 0 to t = 1 ...
+    first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(m0), o1=np.array(m1))
     passed, reason, edge = ex.contour_test_ccd(Q0, Q1, tuple(l), first["ray"])
     assert (first["passed"], first["reason"]) == (passed, reason)
-    # ... and the core's full test: after a kernel failure, the line-search point at t = 0.
+    # ... and the core's full test: after a kernel failure, the line-search point at t = 0, moved
+    # by the mean's displacement.
     res = C.contour_test_ccd(ids, P0, P1, l)
     o2 = ex.retry_kernel(reason, Q0, tuple(l))
     if o2 is None:
-        assert (res["passed"], res["reason"], res["kernel"]) == (first["passed"], first["reason"], first["kernel"])
+        assert (res["passed"], res["reason"], res["kernel"], res["kernel_end"]) == (
+            first["passed"], first["reason"], m0, m1)
     else:
-        assert res["kernel"] == o2
-        assert (res["passed"], res["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2)[:2]
+        o2_end = ex.moved_kernel(o2, Q0, Q1)
+        assert (res["kernel"], res["kernel_end"]) == (o2, o2_end)
+        assert (res["passed"], res["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2, o1=o2_end)[:2]
     if res["passed"]:
         for t in TS:
             Pt = [tuple(float(c) for c in ex.lerp(p0, p1, t)) if t in (0, 1) else ex.lerp(p0, p1, t)
@@ -118,10 +131,36 @@ def test_ccd_kernel_retry_on_a_moving_spiked_star():
     ids = np.arange(len(P0), dtype=np.int32)
     Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
     assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))["passed"]
+    assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))["passed"]
     res = C.contour_test_ccd(ids, P0, P1, l)
     o2 = ex.sct_candidate(Q0, tuple(l))[0]
-    assert res["passed"] and res["kernel"] == o2
-    assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2)[0]
+    assert res["passed"] and res["kernel"] == o2 and res["kernel_end"] == ex.moved_kernel(o2, Q0, Q1)
+    assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2, o1=res["kernel_end"])[0]
+
+
+def test_moving_kernel_point_culls_a_translating_loop():
+    """A convex loop sliding across the plane by three times its size over the step: with the
+    kernel point fixed (as printed) the loop leaves it, so the test fails; the mean moving with
+    the loop passes, and the twin agrees with both verdicts."""
+    l = np.array([0.0, 0.0, 1.0])
+    ang = np.linspace(0, 2 * np.pi, 7)[:-1]
+    P0 = np.stack([np.cos(ang), np.sin(ang), 0.1 * np.sin(3 * ang)], axis=1)
+    P1 = P0 + np.array([3.0, 1.0, 0.5])
+    ids = np.arange(len(P0), dtype=np.int32)
+    Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
+    m0 = ex.float_mean(Q0)
+    fixed = C.contour_test_ccd(ids, P0, P1, l, o=np.array(m0))
+    assert not fixed["passed"]
+    assert (fixed["passed"], fixed["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), fixed["ray"], o=m0)[:2]
+    res = C.contour_test_ccd(ids, P0, P1, l)
+    assert res["passed"] and res["kernel"] == m0 and res["kernel_end"] == ex.float_mean(Q1)
+    assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"])[0]
+
+
+def test_contour_test_ccd_o1_needs_o():
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    with pytest.raises(ValueError, match="o1"):
+        C.contour_test_ccd(np.arange(3, dtype=np.int32), V, V, np.array([0.0, 0.0, 1.0]), o1=np.zeros(3))
 
 
 def projected_simple_exact(points, l):

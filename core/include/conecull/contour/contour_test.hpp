@@ -29,7 +29,8 @@ struct ContourVerdict {
     int32_t crossings = 0;   // ray crossings counted so far
     int32_t edges_visited = 0;  // contour edges examined (over all ray attempts; cbc: 2 per edge pair)
     int32_t other_edge = -1;    // cbc: the second edge of the pair that failed
-    Vec3 kernel;             // o
+    Vec3 kernel;             // o (CCD: o at t = 0)
+    Vec3 kernel_end;         // CCD only: o at t = 1 (the kernel point moves linearly, Alg. 3 here)
     Vec3 ray;                // r
     bool passed() const { return reason == ContourReason::kPassed; }
 };
@@ -150,9 +151,10 @@ inline bool kernel_failed(const ContourVerdict& v) {
 // whole subtree below the node is traversed: on the folding sheet of `bench dcd`, the retry
 // culls a third of the nodes higher up. The verdict is the last attempt's; edges_visited adds up
 // both attempts and the search's pass.
+// m: the mean of the loop at V (kernel_point), which the caller may have at hand.
 template <class Test>
-ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V, const Vec3& l, Test test) {
-    const Vec3 m = kernel_point(loop, n, V);
+ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V, const Vec3& l, const Vec3& m,
+                                 Test test) {
     ContourVerdict v = test(m);
     if (!kernel_failed(v)) return v;
     thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
@@ -169,7 +171,7 @@ ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V
 }
 
 inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
-    return with_kernel_retry(loop, n, V, l, [&](const Vec3& o) {
+    return with_kernel_retry(loop, n, V, l, kernel_point(loop, n, V), [&](const Vec3& o) {
         return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r, o); });
     });
 }
