@@ -91,10 +91,37 @@ def _progress(done: int, total: int) -> None:
     print(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} frames", end=end, file=sys.stderr, flush=True)
 
 
+def _check_out_file(out: str) -> None:
+    """A recording is written at the end of a run: refuse a path it cannot be written to up front."""
+    import os
+
+    if os.path.isdir(out):
+        raise ValueError(f"--out: '{out}' is a directory; give a file name such as {os.path.join(out, 'run.rrd')}")
+    parent = os.path.dirname(os.path.abspath(out))
+    if not os.path.isdir(parent):
+        raise ValueError(f"--out: folder '{parent}' does not exist")
+
+
+def _check_bench_args(args) -> None:
+    """Counts the benchmarks need, checked before minutes of work (each names its option)."""
+    for name, value, low in (("--threads", args.threads, 1), ("--repeats", args.repeats, 1),
+                             ("--frames", args.frames, 2), ("--triangles", args.triangles, 8)):
+        if value is not None and value < low:
+            raise ValueError(f"{name}: expected an integer >= {low}, got {value}")
+    if args.sizes is not None:
+        try:
+            sizes = [int(x) for x in args.sizes.split(",") if x.strip()]
+        except ValueError:
+            raise ValueError(f"--sizes: expected comma-separated triangle counts, got '{args.sizes}'") from None
+        if not sizes or min(sizes) < 8:
+            raise ValueError(f"--sizes: expected triangle counts >= 8, got '{args.sizes}'")
+
+
 def _run(args) -> int:
     if args.command == "demo":
         from conecull.app.demo import run_demo
 
+        _check_out_file(args.out)
         return run_demo(args.out, args.method)
     if args.command == "scenes":
         from conecull.datasets import describe, load, names
@@ -115,6 +142,9 @@ def _run(args) -> int:
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
         from conecull.viz.rerun_sink import record
 
+        if not 0 <= args.depth <= 64:
+            raise ValueError(f"--depth: expected a BVH depth in [0, 64], got {args.depth}")
+        _check_out_file(args.out)
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
@@ -144,15 +174,13 @@ def _run(args) -> int:
         res = col.dcd(frames[args.frame], trace=True)
         print(explain_node(col, res, args.node))
         return 0
+    if args.command == "bench":
+        _check_bench_args(args)
     if args.command == "bench" and args.suite == "all":
         from conecull.app.evaluation import render_from_json, run_all
 
         if args.from_json:
             return render_from_json(args.from_json, args.out)
-        if args.threads is not None and args.threads < 1:
-            raise ValueError(f"--threads: expected a positive count, got {args.threads}")
-        if args.repeats is not None and args.repeats < 1:
-            raise ValueError(f"--repeats: expected a positive count, got {args.repeats}")
         return run_all(args)
     if args.command == "bench":
         from conecull.app.bench import (run_ccd_bench, run_contour_bench, run_dcd_bench, run_threads_bench,
@@ -160,8 +188,6 @@ def _run(args) -> int:
 
         run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench,
                "threads": run_threads_bench}[args.suite]
-        if args.threads is not None and args.threads < 1:
-            raise ValueError(f"--threads: expected a positive count, got {args.threads}")
         # trace and contour always measure one thread (a traced query runs on one)
         extra = {} if args.threads is None or args.suite in ("trace", "contour") else {"threads": args.threads}
         return run(args.triangles, args.frames, 5 if args.repeats is None else args.repeats, args.out, **extra)

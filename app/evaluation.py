@@ -197,7 +197,12 @@ def _fig1_table(rows):
 def render_from_json(path: str, out: str) -> int:
     """Re-render the scene tables and the plots of a finished run from its paper.json (no timing)."""
     with open(path) as fh:
-        results = json.load(fh)
+        try:
+            results = json.load(fh)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"--from-json: '{path}' is not a JSON file ({e})") from None
+    if not isinstance(results, dict):
+        raise ValueError(f"--from-json: '{path}' is not the paper.json of a `bench all` run")
     if results.get("scenes"):
         _fig10_tables(results["scenes"], "scene")
         _fig11_table(results["scenes"])

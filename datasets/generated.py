@@ -9,13 +9,19 @@ from __future__ import annotations
 import numpy as np
 
 
+def _count(name: str, value, low: int) -> int:
+    """A size argument: an integer >= low, else a ValueError naming it (no silent clamping)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ValueError(f"{name}: expected an integer >= {low}, got {value!r}")
+    return int(value)
+
+
 def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
     """A flat (nx x ny)-vertex grid in the z = 0 plane, consistently oriented (+z normals).
 
     Returns faces (2 (nx-1)(ny-1), 3) int64 and positions (nx*ny, 3) float64.
     """
-    if nx < 2 or ny < 2:
-        raise ValueError(f"nx, ny: need at least 2 vertices per side, got {nx}, {ny}")
+    nx, ny = _count("nx", nx, 2), _count("ny", ny, 2)
     xs = np.linspace(0.0, width, nx)
     ys = np.linspace(0.0, height, ny)
     X, Y = np.meshgrid(xs, ys)  # (ny, nx)
@@ -31,6 +37,7 @@ def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
 
 def sheet_for_triangles(n_triangles: int):
     """A square grid sheet with about n_triangles triangles."""
+    _count("n_triangles", n_triangles, 2)
     side = max(2, int(round(np.sqrt(n_triangles / 2.0))) + 1)
     return grid_sheet(side, side)
 
@@ -58,6 +65,7 @@ def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> 
 
 def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: float = 1.15 * np.pi):
     """A sheet folding onto itself: from flat to `final_angle` (past pi it self-intersects)."""
+    _count("n_frames", n_frames, 1)
     F, V = sheet_for_triangles(n_triangles)
     frames = np.stack([fold(V, final_angle * k / max(1, n_frames - 1)) for k in range(n_frames)])
     return F, frames
@@ -65,6 +73,7 @@ def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: floa
 
 def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float = 0.15):
     """A gently bending sheet (a travelling wave): never self-intersects."""
+    _count("n_frames", n_frames, 1)
     F, V = sheet_for_triangles(n_triangles)
     frames = []
     for k in range(n_frames):
@@ -77,6 +86,7 @@ def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float 
 
 def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
     """A closed, consistently oriented (outward) UV sphere."""
+    n_lat, n_lon = _count("n_lat", n_lat, 2), _count("n_lon", n_lon, 3)
     th = np.linspace(0.0, np.pi, n_lat + 1)[1:-1]
     ph = np.linspace(0.0, 2.0 * np.pi, n_lon, endpoint=False)
     T, Ph = np.meshgrid(th, ph, indexing="ij")
@@ -102,6 +112,7 @@ def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
 
 def crumpling_sphere(n_lat: int = 24, n_lon: int = 48, n_frames: int = 30, strength: float = 0.6, seed: int = 0):
     """A sphere crumpling inwards under smooth random dents until it self-intersects."""
+    _count("n_frames", n_frames, 1)
     F, V = uv_sphere(n_lat, n_lon)
     rng = np.random.default_rng(seed)
     centers = rng.standard_normal((12, 3))

@@ -40,7 +40,9 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     """Faces (m, 3) and frames (T, n, 3) from a scene name or path (see module doc)."""
     from conecull.datasets.registry import SCENES, load
 
-    if source in SCENES and positions is None and not os.path.exists(source):
+    if source in SCENES and not os.path.exists(source):
+        if positions is not None:
+            raise ValueError(f"positions: only with a single mesh file, not with the scene '{source}'")
         return load(source, resolution=resolution)
     if not os.path.exists(source):
         raise FileNotFoundError(f"INPUT: '{source}' is neither a scene ({', '.join(SCENES)}) nor an existing path")
@@ -71,9 +73,12 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     try:
         with np.load(positions) as z:
             key = "positions" if "positions" in z.files else z.files[0]
-            P = np.asarray(z[key], dtype=np.float64)
+            raw = z[key]
     except Exception as e:
         raise ValueError(f"positions: cannot read '{positions}' as .npz ({e})") from None
+    if raw.dtype.kind not in "fiu":  # complex would lose its imaginary part, silently
+        raise ValueError(f"positions: expected real coordinates in '{positions}', got dtype {raw.dtype}")
+    P = np.asarray(raw, dtype=np.float64)
     if P.ndim != 3 or P.shape[2] != 3:
         raise ValueError(f"positions: expected an array of shape (T, n, 3), got {P.shape}")
     if P.shape[1] != len(V):

@@ -139,8 +139,8 @@ def _key(scene: Scene, resolution: int, frames: int) -> str:
 
 def load(name: str, resolution: int | None = None, frames: int | None = None):
     """faces (m, 3) int64 and positions (T, n, 3) float64 of a scene; cached on disk."""
-    if name not in SCENES:
-        raise ValueError(f"name: unknown scene '{name}'; known: {', '.join(SCENES)}")
+    if not isinstance(name, str) or name not in SCENES:
+        raise ValueError(f"name: unknown scene {name!r}; known: {', '.join(SCENES)}")
     scene = SCENES[name]
     resolution = scene.default_resolution if resolution is None else resolution
     frames = scene.default_frames if frames is None else frames
@@ -151,7 +151,13 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     if path.exists():
         with np.load(path) as z:
             return z["faces"], z["positions"]
-    F, P = scene.generate(int(resolution), int(frames), scene.dt)
+    try:
+        F, P = scene.generate(int(resolution), int(frames), scene.dt)
+    except MemoryError:
+        raise MemoryError(f"resolution, frames: scene '{name}' at resolution {resolution} with {frames} frames needs "
+                          "more memory than this machine has") from None
+    except ValueError as e:  # a generator's own limits (e.g. squishy's cells per side) are on the resolution
+        raise ValueError(f"resolution: {resolution} does not suit scene '{name}' ({e})") from None
     F, P = np.asarray(F, np.int64), np.asarray(P, np.float64)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp.npz")

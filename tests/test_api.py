@@ -26,6 +26,7 @@ def col(method="nc"):
         (np.array([[0, 1, 2**40]]), r"faces: vertex index .* does not fit"),
         (np.array([["a", "b", "c"]]), r"faces: expected an integer array"),
         (np.zeros((0, 4), dtype=np.int64), r"faces: expected shape \(m, 3\)"),
+        ([[0, 1, 2], [3, 4]], r"faces: not a rectangular array"),
     ],
 )
 def test_bad_faces(faces, match):
@@ -53,6 +54,7 @@ def test_face_index_out_of_range_with_n_vertices():
         (np.where(np.arange(75).reshape(25, 3) == 5, 1e300, V), r"V: coordinate 1e\+300 at row 1, column 2 is outside"),
         (np.where(np.arange(75).reshape(25, 3) == 5, 1e-300, V), r"V: coordinate 1e-300 at row 1, column 2 is outside"),
         ([[0, 0, 0]], r"V: expected a float64"),
+        ([[0.0, 0.0, 0.0]] * 24 + [[0.0, 1.0]], r"V: not a rectangular array"),
     ],
 )
 def test_bad_positions(Vb, match):

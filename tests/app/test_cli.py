@@ -68,6 +68,17 @@ def test_folder_and_npz_inputs(tmp_path, capsys):
     (["record", "no/such/path", "--resolution", "8"], "neither a scene"),
     (["record", "fold", "--resolution", "1"], "resolution: expected an integer >= 3"),
     (["scenes", "--generate", "nope"], "NAME: unknown scene 'nope'"),
+    (["record", "fold", "--positions", "p.npz"], "positions: only with a single mesh file, not with the scene 'fold'"),
+    (["record", "fold", "--depth", "-5"], "--depth: expected a BVH depth in [0, 64], got -5"),
+    (["record", "fold", "--out", "no/such/folder/r.rrd"], "--out: folder"),
+    (["record", "fold", "--out", "."], "--out: '.' is a directory"),
+    (["demo", "--out", "no/such/folder/d.rrd"], "--out: folder"),
+    (["bench", "dcd", "--frames", "0"], "--frames: expected an integer >= 2, got 0"),
+    (["bench", "dcd", "--triangles", "-5"], "--triangles: expected an integer >= 8, got -5"),
+    (["bench", "contour", "--repeats", "0"], "--repeats: expected an integer >= 1, got 0"),
+    (["bench", "threads", "--threads", "0"], "--threads: expected an integer >= 1, got 0"),
+    (["bench", "all", "--sizes", "abc"], "--sizes: expected comma-separated triangle counts, got 'abc'"),
+    (["bench", "all", "--sizes", "4"], "--sizes: expected triangle counts >= 8"),
 ])
 def test_cli_errors(argv, msg, capsys):
     assert main(argv) == 2
@@ -107,3 +118,10 @@ def test_record_a_real_step_from_shared_data(tmp_path, capsys):
     frames = require(DATA / "scalable-ccd" / "cloth-funnel" / "frames")
     assert main(["record", str(frames), "--ccd", "--out", str(tmp_path / "funnel.rrd")]) == 0
     assert "1 CCD steps (exact), 18484 triangles" in capsys.readouterr().out
+
+
+def test_bench_from_json_names_a_bad_file(tmp_path, capsys):
+    bad = tmp_path / "paper.json"
+    bad.write_text("not json")
+    assert main(["bench", "all", "--from-json", str(bad), "--out", str(tmp_path / "o")]) == 2
+    assert f"--from-json: '{bad}' is not a JSON file" in capsys.readouterr().err

@@ -7,6 +7,7 @@ import trimesh
 
 import conecull
 from conecull import datasets
+from conecull.datasets import generated
 from conecull.app.cli import main
 from conecull.datasets.inputs import load_sequence
 
@@ -103,10 +104,33 @@ def test_flamenco_folds_press_together_later():
     ({"name": "fold", "resolution": 1}, "resolution: expected an integer >= 3"),
     ({"name": "fold", "frames": 0}, "frames: expected an integer >= 1"),
     ({"name": "fold", "frames": 2.5}, "frames: expected an integer >= 1"),
+    ({"name": ["fold"]}, r"name: unknown scene \['fold'\]"),
+    ({"name": "squishy", "resolution": 3, "frames": 2}, "resolution: 3 does not suit scene 'squishy'"),
 ])
 def test_bad_arguments(kwargs, match):
     with pytest.raises(ValueError, match=match):
         datasets.load(**kwargs)
+
+
+@pytest.mark.parametrize("call,match", [
+    (lambda: generated.uv_sphere(1, 3), "n_lat: expected an integer >= 2, got 1"),
+    (lambda: generated.uv_sphere(3, 0), "n_lon: expected an integer >= 3, got 0"),
+    (lambda: generated.folding_sheet(0, 3), "n_triangles: expected an integer >= 2, got 0"),
+    (lambda: generated.folding_sheet(-100, 3), "n_triangles: expected an integer >= 2, got -100"),
+    (lambda: generated.folding_sheet(10, 0), "n_frames: expected an integer >= 1, got 0"),
+    (lambda: generated.crumpling_sphere(2, 3, 0), "n_frames: expected an integer >= 1, got 0"),
+    (lambda: generated.grid_sheet(2.5, 3), "nx: expected an integer >= 2, got 2.5"),
+])
+def test_generators_name_bad_sizes(call, match):
+    """No silent clamping and no NumPy message: each bad size is named."""
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_smallest_uv_sphere_is_a_valid_closed_mesh():
+    F, V = generated.uv_sphere(2, 3)
+    assert F.min() >= 0 and F.max() < len(V) and F.shape == (6, 3)
+    conecull.Mesh(F, n_vertices=len(V))
 
 
 @pytest.mark.parametrize("ext", ["obj", "ply"])
@@ -121,3 +145,12 @@ def test_loader_round_trip_keeps_coincident_vertices(tmp_path, ext):
         trimesh.Trimesh(V, F, process=False).export(d / f"f{k}.{ext}")
     F2, P = load_sequence(str(d))
     assert np.array_equal(F2, F) and np.array_equal(P, np.stack(frames))
+
+
+def test_complex_positions_are_refused(tmp_path):
+    """np.asarray(..., float64) would drop the imaginary part with only a warning."""
+    mesh = tmp_path / "t.obj"
+    mesh.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    np.savez(tmp_path / "c.npz", positions=np.full((2, 3, 3), 1j))
+    with pytest.raises(ValueError, match="positions: expected real coordinates"):
+        load_sequence(str(mesh), positions=str(tmp_path / "c.npz"))

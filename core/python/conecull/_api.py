@@ -20,8 +20,16 @@ _COORD_MIN = 2.0**-128
 _COORD_MAX = 2.0**128
 
 
+def _asarray(x, name: str) -> np.ndarray:
+    """np.asarray, with NumPy's complaints about ragged or odd input naming the argument."""
+    try:
+        return np.asarray(x)
+    except (ValueError, TypeError) as e:
+        raise ValueError(f"{name}: not a rectangular array ({e})") from None
+
+
 def _as_faces(faces) -> np.ndarray:
-    a = np.asarray(faces)
+    a = _asarray(faces, "faces")
     # An empty mesh: [] or an empty (0, 3) array (a float literal like np.zeros((0, 3)) too).
     if a.size == 0 and a.dtype.kind in "iuf" and (a.shape == (0,) or a.shape == (0, 3)):
         return np.zeros((0, 3), dtype=np.int32)
@@ -42,7 +50,7 @@ def _as_faces(faces) -> np.ndarray:
 
 
 def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
-    a = np.asarray(V)
+    a = _asarray(V, name)
     if a.dtype.kind != "f":
         raise ValueError(f"{name}: expected a float64 (or float32) array, got dtype {a.dtype}")
     if a.ndim != 2 or a.shape[1] != 3:
@@ -82,7 +90,10 @@ class Mesh:
             raise ValueError(f"n_vertices: expected an integer, got {type(n_vertices).__name__}")
         elif n_vertices < needed:
             raise ValueError(f"n_vertices: {n_vertices} is smaller than the largest face index + 1 ({needed})")
-        self._topo = _core.build_topology(f, int(n_vertices))
+        try:
+            self._topo = _core.build_topology(f, int(n_vertices))
+        except MemoryError:
+            raise MemoryError(f"n_vertices: {int(n_vertices)} vertices need more memory than this machine has") from None
 
     @property
     def n_vertices(self) -> int:
@@ -297,7 +308,7 @@ def _as_threads(threads) -> int:
 
 
 def _as_point(x, name: str) -> np.ndarray:
-    a = np.asarray(x)
+    a = _asarray(x, name)
     if a.dtype.kind not in "fiu":
         raise ValueError(f"{name}: expected 3 real coordinates, got dtype {a.dtype}")
     if a.shape != (3,):
