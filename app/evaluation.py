@@ -250,34 +250,72 @@ def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
     return steps
 
 
+def _time_dcd_interleaved(sheets, methods, passes, threads):
+    """DCD ms per query for several meshes, their passes interleaved: pass p times every mesh that
+    still needs passes, one after another, so that a slow spell of a shared machine falls on
+    all sizes alike rather than on one (the ratio between sizes is what the scaling table is
+    for). sheets: (F, frames) per size; passes: per size. Per size and method: the median over
+    timed frames (frame 0 untimed, as time_sequence) of the per-frame medians, and the last
+    pass's stats."""
+    cols = []
+    for F, P in sheets:
+        mesh = conecull.Mesh(F, n_vertices=P.shape[1])
+        cs = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in methods}
+        for col in cs.values():
+            col.dcd(P[0])  # builds the BVH and contours
+        cols.append(cs)
+    ms = [{m: [[] for _ in range(len(P))] for m in methods} for _, P in sheets]
+    stats = [{m: None for m in methods} for _ in sheets]
+    for p in range(max(passes)):
+        for i, (F, P) in enumerate(sheets):
+            if p >= passes[i]:
+                continue
+            for k in range(len(P)):
+                ref = None
+                for m, col in cols[i].items():
+                    t = time.perf_counter()
+                    res = col.dcd(P[k])
+                    ms[i][m][k].append(1e3 * (time.perf_counter() - t))
+                    stats[i][m] = res.stats
+                    if ref is None:
+                        ref = res.pairs.tobytes()
+                    elif res.pairs.tobytes() != ref:
+                        raise AssertionError(f"{m} disagrees with {methods[0]} at frame {k} of sheet {len(F)}")
+    med = [{m: statistics.median(statistics.median(ms[i][m][k]) for k in range(1, len(P))) for m in methods}
+           for i, (_, P) in enumerate(sheets)]
+    return med, stats
+
+
 def run_scaling(sizes, n_frames, repeats, threads, results):
     """ms per query and ns per triangle from ~16K to 1M triangles: the folded sheet of `bench dcd`
     (its contact line grows like sqrt(n), like the rest of the work per triangle... almost)."""
     from conecull.app.bench import _folded_sheet_frames
 
+    # The smaller sheets' DCD queries take a few ms, where one slow pass moves a median of three:
+    # more passes there. All sizes' DCD passes are interleaved (_time_dcd_interleaved).
+    passes = [max(repeats, min(15, int(repeats * 250_000 / max(n, 1)))) for n in sizes]
     print(f"## Scaling: the folded sheet of `bench dcd` at several sizes, {n_frames} frames, {repeats} passes "
-          f"(DCD below 256K triangles: up to 15), {threads} thread(s)")
+          f"(DCD below 256K triangles: up to 15, the sizes' passes interleaved), {threads} thread(s)")
     print()
     print("| triangles | DCD nc ms | DCD nc+front ms | CCD nc exact ms | DCD nc ns/triangle | DCD nc+front ns/triangle | "
           "CCD ns/triangle | colliding pairs |")
     print("|---|---|---|---|---|---|---|---|")
-    rows = []
+    sheets = []
     for n in sizes:
         F, frames = _folded_sheet_frames(n, n_frames)
-        P = np.stack(frames)
-        # The smaller sheets' DCD queries take a few ms, where one slow pass moves a median of
-        # three: more passes there (the ratio between sizes is the point of this table).
-        dcd_passes = max(repeats, min(15, int(repeats * 250_000 / max(n, 1))))
-        dcd, _, st = time_sequence(F, P, ("nc", "nc+front"), dcd_passes, threads=threads)
+        sheets.append((F, np.stack(frames)))
+    dcd_all, st_all = _time_dcd_interleaved(sheets, ("nc", "nc+front"), passes, threads)
+    rows = []
+    for (F, P), dcd, st in zip(sheets, dcd_all, st_all):
         rng = np.random.default_rng(0)
         J = 1e-5 * rng.standard_normal(P.shape[1:])  # as `bench ccd`: no exact symmetries
         ccd, _, _ = time_sequence(F, P[-3:] + J, ("nc",), repeats, ccd=True, threads=threads)
         m = len(F)
         row = {"triangles": m, "dcd_nc_ms": dcd["nc"], "dcd_nc_front_ms": dcd["nc+front"], "ccd_nc_ms": ccd["nc"],
-               "colliding_pairs": st["nc"][-1]["colliding_pairs"]}
+               "colliding_pairs": st["nc"]["colliding_pairs"]}
         rows.append(row)
         print(f"| {m} | {dcd['nc']:.1f} | {dcd['nc+front']:.1f} | {ccd['nc']:.1f} | {1e6 * dcd['nc'] / m:.0f} | "
-              f"{1e6 * dcd['nc+front'] / m:.0f} | {1e6 * ccd['nc'] / m:.0f} | {row['colliding_pairs']} |")
+              f"{1e6 * dcd['nc+front'] / m:.0f} | {1e6 * ccd['nc'] / m:.0f} | {row['colliding_pairs']} |", flush=True)
     base = next((r for r in rows if abs(r["triangles"] - 64000) < 8000), rows[0])
     print()
     for r in rows:
