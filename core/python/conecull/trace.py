@@ -43,7 +43,8 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("reason", "uint8", (), "code", "0 passed (culled); 1-5 why Alg. 1 failed, 6 sct, 7 cbc; 16+ why the node is ineligible (REASONS)"),
             Field("edge", "int32", (), "contour index", "contour edge (v_i, v_i+1) / vertex where Alg. 1 failed; -1 if none"),
             Field("crossings", "int32", (), "count", "ray crossings counted before the verdict"),
-            Field("kernel", "float64", (3,), "length", "kernel point o (mean of the contour vertices)"),
+            Field("kernel", "float64", (3,), "length", "kernel point o of the verdict: the contour's mean, or the "
+                  "line-search point if the mean failed the kernel test (CCD: o at t = 0; it moves with the mean over the step)"),
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
         )),
         EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "
