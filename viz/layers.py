@@ -32,7 +32,7 @@ class FrameLayers:
     contour_nodes: np.ndarray     # nodes whose Alg. 1 ran and failed (they have a loop)
     contour_strips: list          # closed loops as (k + 1, 3) arrays, one per contour node
     contour_reasons: np.ndarray
-    kernels: np.ndarray           # (c, 3)
+    kernels: np.ndarray           # (c, 3) at the pose drawn (CCD: the end pose, so o at t = 1)
     rays: np.ndarray              # (c, 3) vectors, scaled to the node size
     cone_nodes: np.ndarray        # nodes whose cone or contour test failed
     cone_origins: np.ndarray
@@ -118,7 +118,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
                                            int(code), int(e), int(c)))
     return FrameLayers(
         face_status=status, face_colors=STATUS_COLORS[status], contour_nodes=cnodes, contour_strips=strips,
-        contour_reasons=tr.contour["reason"][fail], kernels=tr.contour["kernel"][fail], rays=proj,
+        contour_reasons=tr.contour["reason"][fail], kernels=tr.contour["kernel_end"][fail], rays=proj,
         cone_nodes=cone_nodes, cone_origins=centers.reshape(-1, 3), cone_vectors=vecs, cone_bounded=bounded,
         sentences=sentences,
     )

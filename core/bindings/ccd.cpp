@@ -113,17 +113,14 @@ void bind_ccd(py::module_& m) {
             if (end && !start) throw py::value_error("o1: given without o (o1 is where the kernel point o moves to)");
             using Ends = std::pair<Vec3, Vec3>;
             const std::optional<Ends> kernel = start ? std::optional<Ends>(Ends{*start, end ? *end : *start}) : std::nullopt;
-            const ContourVerdict v = contour_test_choosing(
+            return verdict_dict(contour_test_choosing(
                 axis, opt_vec3(r, "r"), kernel,
                 [&] { return Ends{kernel_point(loop.data(), n, V0.data()), kernel_point(loop.data(), n, V1.data())}; },
                 [&](const Vec3& d, const Ends& k) {
                     return unprojected_contour_test_ccd_with_ray(loop.data(), n, V0.data(), V1.data(), axis, d, k.first,
                                                                  k.second);
                 },
-                [&] { return unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis); });
-            py::dict out = verdict_dict(v);
-            out["kernel_end"] = py::make_tuple(v.kernel_end.x, v.kernel_end.y, v.kernel_end.z);
-            return out;
+                [&] { return unprojected_contour_test_ccd(loop.data(), n, V0.data(), V1.data(), axis); }));
         },
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         py::arg("o1") = py::none(),

@@ -26,6 +26,7 @@ py::dict verdict_dict(const ContourVerdict& v) {
     d["edge"] = v.edge;
     d["crossings"] = v.crossings;
     d["kernel"] = py::make_tuple(v.kernel.x, v.kernel.y, v.kernel.z);
+    d["kernel_end"] = py::make_tuple(v.kernel_end.x, v.kernel_end.y, v.kernel_end.z);
     d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
     d["other_edge"] = v.other_edge;
     d["edges_visited"] = v.edges_visited;

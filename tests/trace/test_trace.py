@@ -38,6 +38,9 @@ def test_trace_matches_stats_and_oracle(name, leaf_size):
     for node in tr.culled_nodes():
         tris = set(bvh["order"][bvh["begin"][node] : bvh["end"][node]].tolist())
         assert not any(i in tris and j in tris for i, j in truth), f"{name}: culled node {node} hides a collision"
+    # DCD has one pose: the kernel point at its "end" is the kernel point
+    tested = tr.contour["reason"] < 16
+    assert np.array_equal(tr.contour["kernel_end"][tested], tr.contour["kernel"][tested])
     # every reason code is known and explainable
     for code, edge, cr in zip(tr.contour["reason"], tr.contour["edge"], tr.contour["crossings"]):
         assert int(code) in REASONS and explain(code, edge, cr)

@@ -33,6 +33,32 @@ def test_ccd_trace_consistency(name, F, V0, V1):
         assert not any(a in edges and b in edges for a, b in ee_true), f"{name}: culled node {node} hides an EE contact"
 
 
+def test_ccd_trace_kernel_moves_with_the_contour():
+    """Each CCD contour event's kernel point moves over the step: for a mesh translated by d, from
+    the point tested at t = 0 to that point + d (the contour's mean moves by d), and it is the
+    verdict of contour_test_ccd on the node's loop."""
+    from conecull._core import ccd as C
+
+    name, F, V0, _ = STEPS[0]
+    d = np.array([0.75, -0.5, 0.25])
+    V1 = V0 + d
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V0)), method="nc")
+    col.ccd(V0, V1)
+    tr = col.ccd(V0, V1, trace=True).trace
+    loops = col.contour_arrays()
+    tested = np.flatnonzero(tr.contour["reason"] < 16)
+    assert len(tested) > 0
+    np.testing.assert_allclose(tr.contour["kernel_end"][tested] - tr.contour["kernel"][tested], np.tile(d, (len(tested), 1)),
+                               atol=1e-12)
+    for i in tested[:20]:
+        node = int(tr.contour["node"][i])
+        loop = loops["vertices"][loops["offsets"][node] : loops["offsets"][node + 1]].astype(np.int32)
+        axis = col.cone_arrays()["axis"][node]
+        v = C.contour_test_ccd(loop, V0, V1, axis)
+        assert v["kernel"] == tuple(tr.contour["kernel"][i]) and v["kernel_end"] == tuple(tr.contour["kernel_end"][i])
+        assert v["reason"] == int(tr.contour["reason"][i])
+
+
 def test_ccd_recording(tmp_path):
     from conecull.datasets.inputs import load_sequence
     from conecull.viz.rerun_sink import record

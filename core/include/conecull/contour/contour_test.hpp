@@ -30,7 +30,7 @@ struct ContourVerdict {
     int32_t edges_visited = 0;  // contour edges examined (over all ray attempts; cbc: 2 per edge pair)
     int32_t other_edge = -1;    // cbc: the second edge of the pair that failed
     Vec3 kernel;             // o (CCD: o at t = 0)
-    Vec3 kernel_end;         // CCD only: o at t = 1 (the kernel point moves linearly, Alg. 3 here)
+    Vec3 kernel_end;         // o at t = 1 for CCD (the kernel point moves linearly, Alg. 3 here); DCD: o
     Vec3 ray;                // r
     bool passed() const { return reason == ContourReason::kPassed; }
 };
@@ -131,6 +131,7 @@ inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int
                                                      const Vec3& r, const Vec3& o) {
     ContourVerdict out;
     out.kernel = o;
+    out.kernel_end = o;
     out.ray = r;
     return star_contour_test(n, DiscreteSigns{loop, V, o, r, l}, out);
 }

@@ -129,13 +129,15 @@ ContourVerdict quadratic_contour_test(int32_t n, const Signs& s, ContourVerdict 
 inline ContourVerdict quadratic_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
     ContourVerdict out;
     out.kernel = kernel_point(loop, n, V);  // reported only (the test has no kernel point)
+    out.kernel_end = out.kernel;
     return quadratic_contour_test(n, QuadraticSignsDiscrete{loop, V, l}, out);
 }
 
 inline ContourVerdict quadratic_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                                 const Vec3& l) {
     ContourVerdict out;
-    out.kernel = kernel_point(loop, n, V0);
+    out.kernel = kernel_point(loop, n, V0);  // reported only, as the means at both ends
+    out.kernel_end = kernel_point(loop, n, V1);
     return quadratic_contour_test(n, QuadraticSignsContinuous{loop, V0, V1, l}, out);
 }
 

@@ -84,7 +84,9 @@ inline ContourVerdict projected_contour_test(const int32_t* loop, int32_t n, con
     int32_t searched = 0;
     out.kernel = kernel_point(loop, n, V);
     out.ray = f.u;
-    if (!search_kernel_point(loop, n, V, f, out.kernel, scratch, out.kernel, d1, searched)) {
+    const bool found = search_kernel_point(loop, n, V, f, out.kernel, scratch, out.kernel, d1, searched);
+    out.kernel_end = out.kernel;
+    if (!found) {
         out.reason = ContourReason::kNoKernelOnSearchLine;
         out.edges_visited = searched;
         return out;

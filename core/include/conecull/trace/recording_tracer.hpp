@@ -30,6 +30,7 @@ struct RecordingTracer {
     std::vector<int32_t> contour_edge;
     std::vector<int32_t> contour_crossings;
     std::vector<double> contour_kernel;   // 3 per event
+    std::vector<double> contour_kernel_end;  // 3 per event (CCD: o at t = 1; DCD: = kernel)
     std::vector<double> contour_ray;      // 3 per event
     // node pairs of Collide(A, B), aggregated by BVH level (the deeper node's depth)
     std::vector<int64_t> level_pairs, level_overlaps;
@@ -54,6 +55,7 @@ struct RecordingTracer {
         contour_edge.reserve(n);
         contour_crossings.reserve(n);
         contour_kernel.reserve(3 * n);
+        contour_kernel_end.reserve(3 * n);
         contour_ray.reserve(3 * n);
         int32_t depth = 0;
         for (const BvhNode& node : tree.nodes) depth = std::max(depth, node.depth);
@@ -68,10 +70,10 @@ struct RecordingTracer {
         cone_bounded.push_back(bounded);
     }
     void on_contour_ineligible(int32_t node, uint8_t status) {
-        push_contour(node, static_cast<uint8_t>(kIneligibleBase + status), -1, 0, Vec3{}, Vec3{});
+        push_contour(node, static_cast<uint8_t>(kIneligibleBase + status), -1, 0, Vec3{}, Vec3{}, Vec3{});
     }
     void on_contour_test(int32_t node, const ContourVerdict& v) {
-        push_contour(node, static_cast<uint8_t>(v.reason), v.edge, v.crossings, v.kernel, v.ray);
+        push_contour(node, static_cast<uint8_t>(v.reason), v.edge, v.crossings, v.kernel, v.kernel_end, v.ray);
     }
     void on_node_pair(int32_t a, int32_t b, bool overlap) {
         const int32_t d = std::max(bvh->nodes[a].depth, bvh->nodes[b].depth);
@@ -95,12 +97,14 @@ struct RecordingTracer {
     }
 
    private:
-    void push_contour(int32_t node, uint8_t reason, int32_t edge, int32_t crossings, const Vec3& o, const Vec3& r) {
+    void push_contour(int32_t node, uint8_t reason, int32_t edge, int32_t crossings, const Vec3& o, const Vec3& o1,
+                      const Vec3& r) {
         contour_node.push_back(node);
         contour_reason.push_back(reason);
         contour_edge.push_back(edge);
         contour_crossings.push_back(crossings);
         for (int k = 0; k < 3; ++k) contour_kernel.push_back(o[k]);
+        for (int k = 0; k < 3; ++k) contour_kernel_end.push_back(o1[k]);
         for (int k = 0; k < 3; ++k) contour_ray.push_back(r[k]);
     }
 };
