@@ -109,12 +109,9 @@ def _check_bench_args(args) -> None:
         if value is not None and value < low:
             raise ValueError(f"{name}: expected an integer >= {low}, got {value}")
     if args.sizes is not None:
-        try:
-            sizes = [int(x) for x in args.sizes.split(",") if x.strip()]
-        except ValueError:
-            raise ValueError(f"--sizes: expected comma-separated triangle counts, got '{args.sizes}'") from None
-        if not sizes or min(sizes) < 8:
-            raise ValueError(f"--sizes: expected triangle counts >= 8, got '{args.sizes}'")
+        from conecull.app.evaluation import parse_sizes
+
+        parse_sizes(args.sizes)
 
 
 def _run(args) -> int:

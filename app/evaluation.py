@@ -64,28 +64,45 @@ def _pairs_of(res):
     return res.pairs.tobytes()
 
 
-def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact"):
-    """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
-    and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
+def _colliders(F, frames, methods, threads):
+    """One collider per method on the mesh of `frames`, each having answered frame 0 (the BVH and
+    contours are built from it)."""
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
     cols = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in methods}
     for col in cols.values():
-        col.dcd(frames[0])  # builds the BVH and contours
+        col.dcd(frames[0])
+    return cols
+
+
+def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed=True):
+    """One pass over the frames (DCD) or steps k -> k + 1 (CCD), the methods taking turns per
+    frame: wall ms appended to ms[m][k] (if timed), the stats kept in stats[m][k], and every method
+    checked against the first."""
+    methods = list(cols)
+    for k in range(len(frames) - 1 if ccd else len(frames)):
+        ref = None
+        for m, col in cols.items():
+            t = time.perf_counter()
+            res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else col.dcd(frames[k])
+            if timed:
+                ms[m][k].append(1e3 * (time.perf_counter() - t))
+            stats[m][k] = {key: v for key, v in res.stats.items() if not isinstance(v, dict)}
+            if ref is None:
+                ref = _pairs_of(res)
+            elif _pairs_of(res) != ref:
+                raise AssertionError(f"{m} disagrees with {methods[0]} at {'step' if ccd else 'frame'} {k} "
+                                     f"({len(frames[k])} vertices)")
+
+
+def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact"):
+    """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
+    and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
+    cols = _colliders(F, frames, methods, threads)
     n = len(frames) - 1 if ccd else len(frames)
     ms = {m: [[] for _ in range(n)] for m in methods}
     stats = {m: [None] * n for m in methods}
     for _ in range(repeats):
-        for k in range(n):
-            ref = None
-            for m, col in cols.items():
-                t = time.perf_counter()
-                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else col.dcd(frames[k])
-                ms[m][k].append(1e3 * (time.perf_counter() - t))
-                stats[m][k] = {key: v for key, v in res.stats.items() if not isinstance(v, dict)}
-                if ref is None:
-                    ref = _pairs_of(res)
-                elif _pairs_of(res) != ref:
-                    raise AssertionError(f"{m} disagrees with {methods[0]} at {'step' if ccd else 'frame'} {k}")
+        _timed_pass(cols, frames, ms, stats, ccd=ccd, arithmetic=arithmetic)
     timed = range(1, n)
     if n == 1 and repeats > 1:  # one step: its first pass is the warm-up instead
         for m in methods:
@@ -259,32 +276,26 @@ def _time_dcd_interleaved(sheets, methods, passes, threads):
     had only their first passes timed). sheets: (F, frames) per size. Per size and method: the
     median over timed frames (frame 0 untimed, as time_sequence) of the per-frame medians, and
     the last pass's stats."""
-    cols = []
-    for F, P in sheets:
-        mesh = conecull.Mesh(F, n_vertices=P.shape[1])
-        cs = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in methods}
-        for col in cs.values():
-            col.dcd(P[0])  # builds the BVH and contours
-        cols.append(cs)
+    cols = [_colliders(F, P, methods, threads) for F, P in sheets]
     ms = [{m: [[] for _ in range(len(P))] for m in methods} for _, P in sheets]
-    stats = [{m: None for m in methods} for _ in sheets]
+    stats = [{m: [None] * len(P) for m in methods} for _, P in sheets]
     for p in range(-1, passes):  # -1: the warm-up pass
-        for i, (F, P) in enumerate(sheets):
-            for k in range(len(P)):
-                ref = None
-                for m, col in cols[i].items():
-                    t = time.perf_counter()
-                    res = col.dcd(P[k])
-                    if p >= 0:
-                        ms[i][m][k].append(1e3 * (time.perf_counter() - t))
-                    stats[i][m] = res.stats
-                    if ref is None:
-                        ref = res.pairs.tobytes()
-                    elif res.pairs.tobytes() != ref:
-                        raise AssertionError(f"{m} disagrees with {methods[0]} at frame {k} of sheet {len(F)}")
+        for i, (_, P) in enumerate(sheets):
+            _timed_pass(cols[i], P, ms[i], stats[i], timed=p >= 0)
     med = [{m: statistics.median(statistics.median(ms[i][m][k]) for k in range(1, len(P))) for m in methods}
            for i, (_, P) in enumerate(sheets)]
-    return med, stats
+    return med, [{m: st[m][-1] for m in methods} for st in stats]
+
+
+def parse_sizes(text: str) -> tuple:
+    """`--sizes`: comma-separated triangle counts, each >= 8."""
+    try:
+        sizes = tuple(int(x) for x in text.split(",") if x.strip())
+    except ValueError:
+        raise ValueError(f"--sizes: expected comma-separated triangle counts, got '{text}'") from None
+    if not sizes or min(sizes) < 8:
+        raise ValueError(f"--sizes: expected triangle counts >= 8, got '{text}'")
+    return sizes
 
 
 def run_scaling(sizes, n_frames, repeats, threads, results):
@@ -548,7 +559,7 @@ def run_all(args) -> int:
     for s in scenes:
         if s not in names():
             raise ValueError(f"--scenes: unknown scene '{s}'; known: {', '.join(names())}")
-    sizes = SIZES if args.sizes is None else tuple(int(s) for s in args.sizes.split(",") if s)
+    sizes = SIZES if args.sizes is None else parse_sizes(args.sizes)
     skip = set(args.skip.split(",")) if args.skip else set()
     unknown = skip - {"scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"}
     if unknown:

@@ -45,7 +45,7 @@ def test_ccd_trace_kernel_moves_with_the_contour():
     col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V0)), method="nc")
     col.ccd(V0, V1)
     tr = col.ccd(V0, V1, trace=True).trace
-    loops = col.contour_arrays()
+    loops, axes = col.contour_arrays(), col.cone_arrays()["axis"]
     tested = np.flatnonzero(tr.contour["reason"] < 16)
     assert len(tested) > 0
     np.testing.assert_allclose(tr.contour["kernel_end"][tested] - tr.contour["kernel"][tested], np.tile(d, (len(tested), 1)),
@@ -53,8 +53,7 @@ def test_ccd_trace_kernel_moves_with_the_contour():
     for i in tested[:20]:
         node = int(tr.contour["node"][i])
         loop = loops["vertices"][loops["offsets"][node] : loops["offsets"][node + 1]].astype(np.int32)
-        axis = col.cone_arrays()["axis"][node]
-        v = C.contour_test_ccd(loop, V0, V1, axis)
+        v = C.contour_test_ccd(loop, V0, V1, axes[node])
         assert v["kernel"] == tuple(tr.contour["kernel"][i]) and v["kernel_end"] == tuple(tr.contour["kernel_end"][i])
         assert v["reason"] == int(tr.contour["reason"][i])
 
