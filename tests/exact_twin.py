@@ -176,13 +176,6 @@ def contour_test_ccd(pts0, pts1, l, r, o=None, o1=None):
                      lambda i: csidesign2(pts0[i], pts1[i], o, r, l, o1))
 
 
-def moved_kernel(o, pts0, pts1):
-    """The core's kernel point at t = 1 for a kernel point o at t = 0 other than the mean: o moved by
-    the mean's displacement, in floats as the core rounds it."""
-    m0, m1 = float_mean(pts0), float_mean(pts1)
-    return tuple(o[k] + (m1[k] - m0[k]) for k in range(3))
-
-
 # ---- Baselines (Sec. 6.1): SCT [SPO10] and CBC [TCYM09] --------------------------------------
 
 def _fsub(a, b):
@@ -197,17 +190,22 @@ def _fcross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
+def _frame(l):
+    """kernel_point.hpp, projection_frame: u = l x e_k (exact), w = l x u (rounded), |u|^2, k."""
+    ax, ay, az = abs(l[0]), abs(l[1]), abs(l[2])
+    k = 0 if (ax <= ay and ax <= az) else (1 if ay <= az else 2)
+    u = [(0.0, l[2], -l[1]), (-l[2], 0.0, l[0]), (l[1], -l[0], 0.0)][k]
+    w = _fcross(l, u)
+    return u, w, _fdot(u, u), k
+
+
 def sct_candidate(loop_pts, l):
     """SCT's float steps replicated operation by operation (IEEE doubles, no FMA, as the core is
     built): the projection frame, the projected coordinates, and the [SPO10] line search.
     Returns (o, u, k) with o the candidate kernel point, or (None, u, k) if the search fails.
     These steps only choose o; the verdict is then exact (sct_test)."""
     l = tuple(float(x) for x in l)
-    ax, ay, az = abs(l[0]), abs(l[1]), abs(l[2])
-    k = 0 if (ax <= ay and ax <= az) else (1 if ay <= az else 2)
-    u = [(0.0, l[2], -l[1]), (-l[2], 0.0, l[0]), (l[1], -l[0], 0.0)][k]
-    w = _fcross(l, u)
-    uu = _fdot(u, u)
+    u, w, uu, k = _frame(l)
     c = tuple(float(x) for x in loop_pts[0])
     X, Y = [], []
     for p in loop_pts:
@@ -243,13 +241,121 @@ def sct_candidate(loop_pts, l):
     return None, u, k
 
 
+MAX_KERNEL_CORNERS = 64
+
+
+def clipped_kernel_candidate(loop_pts, l):
+    """clipped_kernel_point (kernel_point.hpp) replicated operation by operation in doubles: the
+    kernel polygon of the projected loop, clipped from its bounding box one edge at a time, and o
+    the point over the mean of its corners. Returns (status, o, visited) with status "found",
+    "empty" or "too_many_corners" (o None unless found). Like sct_candidate, it only chooses o."""
+    l = tuple(float(x) for x in l)
+    u, w, uu, _ = _frame(l)
+    pts = [tuple(float(x) for x in p) for p in loop_pts]
+    c = pts[0]
+    n = len(pts)
+    X, Y = [0.0] * n, [0.0] * n
+    area2, x0, x1, y0, y1 = 0.0, 0.0, 0.0, 0.0, 0.0
+    for i in range(1, n):
+        d = _fsub(pts[i], c)
+        X[i], Y[i] = _fdot(d, u), _fdot(d, w)
+        area2 += X[i - 1] * Y[i] - X[i] * Y[i - 1]
+        x0, x1, y0, y1 = min(x0, X[i]), max(x1, X[i]), min(y0, Y[i]), max(y1, Y[i])
+    if not area2 != 0.0 or not x0 < x1 or not y0 < y1:
+        return "empty", None, 0
+    sg = 1.0 if area2 > 0 else -1.0
+    poly = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
+    for i in range(n):
+        j = (i + 1) % n
+        ax_, ay_ = X[i], Y[i]
+        ex_, ey = X[j] - ax_, Y[j] - ay_
+        if ex_ == 0.0 and ey == 0.0:
+            continue
+        sd = [sg * (ex_ * (q[1] - ay_) - ey * (q[0] - ax_)) for q in poly]
+        if all(v > 0 for v in sd):
+            continue
+        out = []
+        sp = sd[-1]
+        for a in range(len(poly)):
+            b = a - 1
+            sa = sd[a]
+            if (sp > 0) != (sa > 0):
+                t = sp / (sp - sa)
+                out.append((poly[b][0] + t * (poly[a][0] - poly[b][0]), poly[b][1] + t * (poly[a][1] - poly[b][1])))
+                if len(out) > MAX_KERNEL_CORNERS:
+                    return "too_many_corners", None, i + 1
+            if sa > 0:
+                out.append(poly[a])
+                if len(out) > MAX_KERNEL_CORNERS:
+                    return "too_many_corners", None, i + 1
+            sp = sa
+        if len(out) < 3:
+            return "empty", None, i + 1
+        poly = out
+    sx = sy = 0.0
+    for q in poly:
+        sx += q[0]
+        sy += q[1]
+    A, B = (sx / len(poly)) / uu, (sy / len(poly)) / _fdot(w, w)
+    return "found", tuple(c[i] + A * u[i] + B * w[i] for i in range(3)), n
+
+
+def kernel_candidate(loop_pts, l):
+    """find_kernel_point: the clipped kernel's point, or [SPO10]'s line-search point when the
+    kernel polygon has too many corners; None if neither finds one."""
+    status, o, _ = clipped_kernel_candidate(loop_pts, l)
+    if status == "too_many_corners":
+        return sct_candidate(loop_pts, l)[0]
+    return o
+
+
 def retry_kernel(first_reason, loop_pts, l):
     """The second kernel point the core tries (contour_test.hpp, with_kernel_retry): after the
-    mean failed the kernel test (reasons 1, 2), [SPO10]'s line-search point, if it finds one;
-    else None (the first verdict stands)."""
-    if first_reason not in (1, 2):
+    mean failed the kernel test or the ray crossed twice (reasons 1, 2, 4), kernel_candidate; else
+    None (the first verdict stands)."""
+    if first_reason not in (1, 2, 4):
         return None
-    return sct_candidate(loop_pts, l)[0]
+    return kernel_candidate(loop_pts, l)
+
+
+def kernel_area(loop_pts, l):
+    """Exactly: twice the area of the kernel of the loop projected along l (in the coordinates
+    (p . u, p . w) with w = l x u, a linear map of the plane perpendicular to l), 0 if the kernel
+    has no interior; twice the area of the loop's bounding box in the same coordinates; and the
+    ratio of the shortest projected edge to the box's diagonal, squared."""
+    l = fr3(l)
+    ax, ay, az = abs(l[0]), abs(l[1]), abs(l[2])
+    k = 0 if (ax <= ay and ax <= az) else (1 if ay <= az else 2)
+    u = [(0, l[2], -l[1]), (-l[2], 0, l[0]), (l[1], -l[0], 0)][k]
+    w = cross(l, u)
+    P = [(dot(fr3(p), u), dot(fr3(p), w)) for p in loop_pts]
+    n = len(P)
+    area2 = sum(P[i][0] * P[(i + 1) % n][1] - P[(i + 1) % n][0] * P[i][1] for i in range(n))
+    xs, ys = [p[0] for p in P], [p[1] for p in P]
+    box2 = 2 * (max(xs) - min(xs)) * (max(ys) - min(ys))
+    diag2 = (max(xs) - min(xs)) ** 2 + (max(ys) - min(ys)) ** 2
+    short2 = min((P[(i + 1) % n][0] - P[i][0]) ** 2 + (P[(i + 1) % n][1] - P[i][1]) ** 2 for i in range(n))
+    short2 = short2 / diag2 if diag2 else Fr(0)
+    if area2 == 0:
+        return Fr(0), box2, short2
+    sg = 1 if area2 > 0 else -1
+    poly = [(min(xs), min(ys)), (max(xs), min(ys)), (max(xs), max(ys)), (min(xs), max(ys))]
+    for i in range(n):
+        a, b = P[i], P[(i + 1) % n]
+        sd = [sg * ((b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0])) for q in poly]
+        out = []
+        for j in range(len(poly)):
+            sp, sa = sd[j - 1], sd[j]
+            if (sp > 0) != (sa > 0):
+                t = sp / (sp - sa)
+                out.append(tuple(poly[j - 1][d] + t * (poly[j][d] - poly[j - 1][d]) for d in range(2)))
+            if sa > 0:
+                out.append(poly[j])
+        if len(out) < 3:
+            return Fr(0), box2, short2
+        poly = out
+    m = len(poly)
+    return abs(sum(poly[i][0] * poly[(i + 1) % m][1] - poly[(i + 1) % m][0] * poly[i][1] for i in range(m))), box2, short2
 
 
 SCT_RAY_SLOPES = (0.6180339887498949, -1.3247179572447460)

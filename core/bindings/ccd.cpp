@@ -125,8 +125,8 @@ void bind_ccd(py::module_& m) {
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         py::arg("o1") = py::none(),
         "Alg. 3 on the loop `loop` moving from V0 to V1, axis l. The kernel point moves linearly from `kernel`\n"
-        "(t = 0) to `kernel_end` (t = 1): by default the mean at t = 0 to the mean at t = 1, then the line-search\n"
-        "kernel point at t = 0 moved by the mean's displacement. o fixes it at t = 0 and o1 at t = 1 (default\n"
+        "(t = 0) to `kernel_end` (t = 1): by default the mean at t = 0 to the mean at t = 1, then a point in the\n"
+        "clipped kernel of the loop at t = 0 to one at t = 1. o fixes it at t = 0 and o1 at t = 1 (default\n"
         "o1 = o: fixed over the step, as printed); r fixes the ray (with r alone, the moving mean).");
 }
 

@@ -58,7 +58,8 @@ void bind_contour(py::module_& m) {
         },
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("r") = py::none(), py::arg("o") = py::none(),
         "Alg. 1 on the loop of vertex ids `loop` with positions V (n, 3) and axis l (3,). By default the core's\n"
-        "choices: o the mean, then the line-search kernel point if the mean fails the kernel test; generic ray\n"
+        "choices: o the mean, then a point inside the loop's kernel (the polygon clipped from its edges'\n"
+        "half-planes) if the mean fails the kernel test; generic ray\n"
         "directions, a second one if the first hits a vertex. o (3,) fixes the kernel point, r (3,) the ray\n"
         "(with r alone, o is the mean).");
     m.def(

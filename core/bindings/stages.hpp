@@ -20,7 +20,7 @@ Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Arra
 // The optional choices of the single-loop tests (Alg. 1 and Alg. 3): `kernel` fixes the kernel
 // point (K: a point; for CCD its two ends), r the ray (with r alone, the kernel is mean());
 // neither: the core's full test. attempt(r, kernel) runs one attempt, full() the core's test
-// (the mean, then the line-search point; ray retries).
+// (the mean, then the clipped kernel's point; ray retries).
 template <class K, class Mean, class Attempt, class Full>
 ContourVerdict contour_test_choosing(const Vec3& axis, const std::optional<Vec3>& ray, const std::optional<K>& kernel,
                                      const Mean& mean, const Attempt& attempt, const Full& full) {

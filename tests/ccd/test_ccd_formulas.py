@@ -102,15 +102,15 @@ def test_contour_test_ccd_matches_twin_and_is_sound(args):
     first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(m0), o1=np.array(m1))
     passed, reason, edge = ex.contour_test_ccd(Q0, Q1, tuple(l), first["ray"])
     assert (first["passed"], first["reason"]) == (passed, reason)
-    # ... and the core's full test: after a kernel failure, the line-search point at t = 0, moved
-    # by the mean's displacement.
+    # ... and the core's full test: after a kernel failure, a kernel point of the loop at t = 0
+    # moving to one of the loop at t = 1 (the clipped kernels' points), if both ends have one.
     res = C.contour_test_ccd(ids, P0, P1, l)
     o2 = ex.retry_kernel(reason, Q0, tuple(l))
-    if o2 is None:
+    o2_end = ex.retry_kernel(reason, Q1, tuple(l)) if o2 is not None else None
+    if o2_end is None:
         assert (res["passed"], res["reason"], res["kernel"], res["kernel_end"]) == (
             first["passed"], first["reason"], m0, m1)
     else:
-        o2_end = ex.moved_kernel(o2, Q0, Q1)
         assert (res["kernel"], res["kernel_end"]) == (o2, o2_end)
         assert (res["passed"], res["reason"]) == ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2, o1=o2_end)[:2]
     if res["passed"]:
@@ -122,8 +122,8 @@ def test_contour_test_ccd_matches_twin_and_is_sound(args):
 
 def test_ccd_kernel_retry_on_a_moving_spiked_star():
     """The spiked star of tests/contour (mean outside the kernel) translated and slightly turned
-    over the step: Alg. 3 with the mean fails, the line-search point at t = 0 passes, and the
-    twin agrees on that point."""
+    over the step: Alg. 3 with the mean fails, the clipped kernels' points at t = 0 and t = 1
+    pass, and the twin agrees on them."""
     l = np.array([0.0, 0.0, 1.0])
     P0 = np.array([[1, 0, 0], [0.7, 0.7, 0], [0.1, 0.9, 0], [0.05, 6, 0], [0, 6.2, 0], [-0.05, 6, 0], [-0.1, 0.9, 0],
                    [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]], float)
@@ -133,8 +133,8 @@ def test_ccd_kernel_retry_on_a_moving_spiked_star():
     assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))["passed"]
     assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))["passed"]
     res = C.contour_test_ccd(ids, P0, P1, l)
-    o2 = ex.sct_candidate(Q0, tuple(l))[0]
-    assert res["passed"] and res["kernel"] == o2 and res["kernel_end"] == ex.moved_kernel(o2, Q0, Q1)
+    o2, o2_end = ex.clipped_kernel_candidate(Q0, tuple(l))[1], ex.clipped_kernel_candidate(Q1, tuple(l))[1]
+    assert res["passed"] and res["kernel"] == o2 and res["kernel_end"] == o2_end
     assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2, o1=res["kernel_end"])[0]
 
 
@@ -222,3 +222,23 @@ def test_ccd_cone_holds_the_normal_for_every_t(tri):
         n = ex.cross(ex.sub(B, A), ex.sub(Cc, A))
         na = ex.dot(n, a)
         assert na > 0 and na * na >= cb2 * ex.dot(n, n) * ex.dot(a, a), f"t = {t}"
+
+
+def test_ccd_kernel_retry_off_the_line_search_on_a_moving_sideways_spike():
+    """The sideways spike of tests/contour (the line search of [SPO10] finds no kernel point on
+    its line) translated and turned a little over the step: the moving mean fails, and the
+    clipped kernels' points at both ends pass, exactly as the twin says."""
+    l = np.array([0.0, 0.0, 1.0])
+    spike = [[0.9, -0.1, 0], [6, -0.05, 0], [6.2, 0, 0], [6, 0.05, 0], [0.9, 0.1, 0]]
+    disc = [[0.7, 0.7, 0], [0, 1, 0], [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]]
+    P0 = np.array(spike + disc, float)
+    P1 = P0 + np.array([0.3, 0.1, -0.2]) + 0.003 * np.cross(l, P0)
+    ids = np.arange(len(P0), dtype=np.int32)
+    Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
+    assert ex.sct_candidate(Q0, tuple(l))[0] is None and ex.sct_candidate(Q1, tuple(l))[0] is None
+    first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))
+    assert first["reason"] == 2
+    res = C.contour_test_ccd(ids, P0, P1, l)
+    o0, o1 = ex.clipped_kernel_candidate(Q0, tuple(l))[1], ex.clipped_kernel_candidate(Q1, tuple(l))[1]
+    assert res["passed"] and (res["kernel"], res["kernel_end"]) == (o0, o1)
+    assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o0, o1=o1)[0]

@@ -170,7 +170,7 @@ def test_contour_test_matches_exact_twin_and_is_sound(loop):
     paper_r = np.array(ex.ray_direction(tuple(l)))
     res_paper = CT.contour_test(ids, pts, l, paper_r)
     assert (res_paper["passed"], res_paper["reason"]) == ex.contour_test(P, tuple(l))[:2]
-    # The core's full test: the mean, then (after a kernel failure) the line-search point.
+    # The core's full test: the mean, then (after a kernel failure) the clipped kernel's point.
     res = CT.contour_test(ids, pts, l)
     o2 = ex.retry_kernel(reason, P, tuple(l))
     if o2 is None:
@@ -185,8 +185,8 @@ def test_contour_test_matches_exact_twin_and_is_sound(loop):
 
 def test_kernel_retry_passes_a_star_whose_mean_is_outside_its_kernel():
     """A star around the origin with a long thin spike: the mean lies up in the spike, outside
-    the kernel, and Alg. 1 with the mean fails; the line-search point (on the line through the
-    mean, across the kernel) passes, and the loop is indeed simple."""
+    the kernel, and Alg. 1 with the mean fails; the retry's point (the clipped kernel's) passes,
+    and the loop is indeed simple."""
     l = np.array([0.0, 0.0, 1.0])
     pts = np.array([[1, 0, 0], [0.7, 0.7, 0], [0.1, 0.9, 0], [0.05, 6, 0], [0, 6.2, 0], [-0.05, 6, 0], [-0.1, 0.9, 0],
                     [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]], float)
@@ -195,11 +195,62 @@ def test_kernel_retry_passes_a_star_whose_mean_is_outside_its_kernel():
     first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
     assert not first["passed"] and first["reason"] == 2
     res = CT.contour_test(ids, pts, l)
-    assert res["passed"] and res["kernel"] == ex.sct_candidate(P, tuple(l))[0]
-    assert res["edges_visited"] == first["edges_visited"] + len(pts) + len(pts)  # both attempts and the search
+    status, o, visited = ex.clipped_kernel_candidate(P, tuple(l))
+    assert status == "found" and visited == len(pts)
+    assert res["passed"] and res["kernel"] == o
+    assert res["edges_visited"] == first["edges_visited"] + visited + len(pts)  # both attempts and the clipping
     assert projected_simple(pts, l)
     with pytest.raises(ValueError, match="o: expected shape"):
         CT.contour_test(ids, pts, l, o=np.zeros(2))
+
+
+def _sideways_spike():
+    """The spiked star turned to point along x: the mean lies out in the spike (x = 1.58), and
+    the line the [SPO10] search scans for l = z (the frame's u = y: the line x = mean x) runs
+    through the spike, where no point sees the whole star."""
+    spike = [[0.9, -0.1, 0], [6, -0.05, 0], [6.2, 0, 0], [6, 0.05, 0], [0.9, 0.1, 0]]
+    disc = [[0.7, 0.7, 0], [0, 1, 0], [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]]
+    return np.array(spike + disc, float)
+
+
+def test_kernel_retry_finds_a_kernel_off_the_line_search():
+    """The clipped kernel finds the kernel point [SPO10]'s line search misses: on the sideways
+    spike, the mean fails, the line search (sct) finds no kernel point on its line, and the full
+    test passes with the clipped kernel's point, which is in the exact kernel."""
+    l = np.array([0.0, 0.0, 1.0])
+    pts = _sideways_spike()
+    ids = np.arange(len(pts), dtype=np.int32)
+    P = [tuple(p) for p in pts]
+    area = ex.kernel_area(P, tuple(l))[0]
+    assert area > 0, "the loop is star-shaped"
+    assert CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))["reason"] == 2
+    assert ex.sct_candidate(P, tuple(l))[0] is None
+    assert CT.sct_contour_test(ids, pts, l)["reason"] == 6  # no kernel point on the search line
+    res = CT.contour_test(ids, pts, l)
+    assert res["passed"] and res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l))[1]
+    assert ex.contour_test(P, tuple(l), o=res["kernel"], r=res["ray"])[0]
+    assert projected_simple(pts, l)
+
+
+@settings(max_examples=300, deadline=None)
+@given(loops())
+def test_contour_test_passes_wherever_the_kernel_has_room(loop):
+    """Against the exact kernel (the intersection of the edges' inner half-planes): whenever the
+    projected loop is simple, its kernel a region of some size (a 1e-6 share of the loop's
+    bounding box) and no edge projects to almost a point (shorter than 1e-6 of the box's
+    diagonal: an edge nearly along l, whose projected line floats do not resolve), the core's
+    test passes (or a ray passed exactly through a vertex twice); wherever the intersection is
+    empty, it fails. (A loop winding twice, a pentagram, has a non-empty intersection too;
+    there the ray test fails it.)"""
+    pts, l = loop
+    P = [tuple(p) for p in pts]
+    ids = np.arange(len(pts), dtype=np.int32)
+    area, box, short2 = ex.kernel_area(P, tuple(l))
+    res = CT.contour_test(ids, pts, l)
+    if box > 0 and area > box * Fr(1, 10**6) and short2 > Fr(1, 10**12) and projected_simple(pts, l):
+        assert res["passed"] or res["reason"] == 3, (res, pts.tolist(), l.tolist(), float(area / box))
+    if area == 0:
+        assert not res["passed"]
 
 
 def test_star_and_twice_winding_examples():

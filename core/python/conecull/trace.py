@@ -44,9 +44,9 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("edge", "int32", (), "contour index", "contour edge (v_i, v_i+1) / vertex where Alg. 1 failed; -1 if none"),
             Field("crossings", "int32", (), "count", "ray crossings counted before the verdict"),
             Field("kernel", "float64", (3,), "length", "kernel point o of the verdict: the contour's mean, or the "
-                  "line-search point if the mean failed the kernel test (CCD: o at t = 0)"),
+                  "point inside the contour's clipped kernel if the mean failed the kernel test (CCD: o at t = 0)"),
             Field("kernel_end", "float64", (3,), "length", "CCD: the kernel point at t = 1 (it moves linearly over the "
-                  "step, with the contour's mean); DCD: the kernel point again"),
+                  "step: the mean's, or the clipped kernel's of the contour at t = 1); DCD: the kernel point again"),
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
         )),
         EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "

@@ -73,18 +73,29 @@ inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop,
 }
 
 // The kernel point: the mean at t = 0 moving to the mean at t = 1; then, if that fails the
-// kernel test, the line-search kernel point of the loop at t = 0 (with_kernel_retry), moving
-// by the mean's displacement.
+// kernel test, a kernel point of the loop at t = 0 moving to one of the loop at t = 1
+// (find_kernel_point at each end). At t = 0 and t = 1 the retry's o is in the kernel whenever
+// the kernel polygons are proper; in between, the test decides with exact signs.
 inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                                   const Vec3& l) {
-    const Vec3 m0 = kernel_point(loop, n, V0), m1 = kernel_point(loop, n, V1);
-    bool mean = true;  // the first attempt is the mean's
-    return with_kernel_retry(loop, n, V0, l, m0, [&](const Vec3& o) {
-        const Vec3 o1 = mean ? m1 : o + (m1 - m0);
-        mean = false;
+    const auto test = [&](const Vec3& o0, const Vec3& o1) {
         return with_ray_retry(
-            l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o, o1); });
-    });
+            l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o0, o1); });
+    };
+    const Vec3 m0 = kernel_point(loop, n, V0), m1 = kernel_point(loop, n, V1);
+    ContourVerdict v = test(m0, m1);
+    if (!kernel_failed(v)) return v;
+    thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
+    Vec3 o0, o1;
+    int32_t searched0 = 0, searched1 = 0;
+    const bool found = find_kernel_point(loop, n, V0, l, m0, scratch, o0, searched0) &&
+                       find_kernel_point(loop, n, V1, l, m1, scratch, o1, searched1);
+    v.edges_visited += searched0 + searched1;
+    if (!found) return v;
+    const int32_t before = v.edges_visited;
+    v = test(o0, o1);
+    v.edges_visited += before;
+    return v;
 }
 
 }  // namespace conecull

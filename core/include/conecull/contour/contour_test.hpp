@@ -140,19 +140,20 @@ inline ContourVerdict unprojected_contour_test_with_ray(const int32_t* loop, int
     return unprojected_contour_test_with_ray(loop, n, V, l, r, kernel_point(loop, n, V));
 }
 
-// The kernel test failed: o is not in the kernel of the projected loop (or on an edge's line).
+// o is not in the kernel of the projected loop (or on an edge's line): the kernel test failed,
+// or the ray crossed the loop twice before an edge showed it (a loop star-shaped around o is
+// crossed once; one that winds twice fails again with any o).
 inline bool kernel_failed(const ContourVerdict& v) {
-    return v.reason == ContourReason::kNotStarShaped || v.reason == ContourReason::kKernelSignZero;
+    return v.reason == ContourReason::kNotStarShaped || v.reason == ContourReason::kKernelSignZero ||
+           v.reason == ContourReason::kMultipleCrossings;
 }
 
-// test(o) with the mean (Alg. 1 / 3, line 2) and, if that o is not in the kernel, once more with
-// the line-search kernel point of [SPO10] on the loop at positions V (kernel_point.hpp), when
-// the search finds one. A departure on the safe side: any o is valid, as every sign is exact.
-// The mean leaves the kernel of long bent contours (their vertices crowd one side), and then the
-// whole subtree below the node is traversed: on the folding sheet of `bench dcd`, the retry
-// culls a third of the nodes higher up. The verdict is the last attempt's; edges_visited adds up
-// both attempts and the search's pass.
-// m: the mean of the loop at V (kernel_point), which the caller may have at hand.
+// test(o) with the mean (Alg. 1 line 2) and, if that o is not in the kernel, once more with a
+// kernel point of the loop at V (find_kernel_point: the kernel polygon's centre), when there is
+// one. A departure on the safe side: any o is valid, as every sign is exact. The mean leaves
+// the kernel of long bent contours (their vertices crowd one side), and then the whole subtree
+// below the node is traversed. The verdict is the last attempt's; edges_visited adds up both
+// attempts and the search's pass. m: the mean of the loop at V (kernel_point).
 template <class Test>
 ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V, const Vec3& l, const Vec3& m,
                                  Test test) {
@@ -160,9 +161,8 @@ ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V
     if (!kernel_failed(v)) return v;
     thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
     Vec3 o;
-    double d1;
     int32_t searched = 0;
-    const bool found = search_kernel_point(loop, n, V, projection_frame(l), m, scratch, o, d1, searched);
+    const bool found = find_kernel_point(loop, n, V, l, m, scratch, o, searched);
     v.edges_visited += searched;
     if (!found) return v;
     const int32_t before = v.edges_visited;

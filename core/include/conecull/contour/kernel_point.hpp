@@ -5,6 +5,11 @@
 //     perpendicular to the cone axis and intersect, along one line, the inner half-planes of
 //     all its edges. It finds a kernel point of many loops whose mean lies outside the kernel
 //     (long, bent contours of large nodes).
+//   - clipped_kernel_point (ours): the kernel of the projected loop itself, clipped from all
+//     the edges' half-planes; o the mean of its corners. It finds a kernel point whenever the
+//     kernel has an interior, where the mean and the line search look at one point and one line.
+//   - find_kernel_point: what the "nc" tests try after the mean: clipped_kernel_point, and the
+//     line search when the kernel polygon grows too many corners.
 #pragma once
 
 #include <cmath>
@@ -115,6 +120,92 @@ inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V,
             return true;
         }
     return false;
+}
+
+// Corners kept at most by clipped_kernel_point; beyond, it gives up (its work is O(n k) for k
+// corners). Kernels where the mean fails are small polygons; a loop close to convex, whose
+// kernel has as many corners as the loop, passes with the mean.
+inline constexpr int kMaxKernelCorners = 64;
+enum class KernelSearch : uint8_t { kFound, kEmpty, kTooManyCorners };
+
+// The kernel of the loop projected along l (ProjectionFrame coordinates relative to its first
+// vertex c): the polygon where every edge (a, b) sees p on its inner side,
+// sg cross2(b - a, p - a) > 0, sg the orientation of the projected loop (its signed area). Start
+// from the loop's bounding box (the kernel lies in the loop) and clip the convex polygon by one
+// edge's line at a time (Sutherland-Hodgman against one half-plane). o = the 3D point that
+// projects to the mean of the corners: inside the kernel if the polygon is proper. Rounding
+// only moves o; the contour test that follows decides with exact signs whether o works.
+// `visited`: the edges examined (each edge clips once).
+inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const double* V, const ProjectionFrame& f,
+                                         ProjectionScratch& s, Vec3& o, int32_t& visited) {
+    s.X.resize(n);
+    s.Y.resize(n);
+    double* X = s.X.data();
+    double* Y = s.Y.data();
+    const Vec3 c = load(V, loop[0]);
+    double area2 = 0.0, x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
+    X[0] = Y[0] = 0.0;
+    for (int32_t i = 1; i < n; ++i) {
+        project(load(V, loop[i]), c, f, X[i], Y[i]);
+        area2 += X[i - 1] * Y[i] - X[i] * Y[i - 1];  // shoelace about c (the closing term is 0)
+        x0 = std::fmin(x0, X[i]), x1 = std::fmax(x1, X[i]), y0 = std::fmin(y0, Y[i]), y1 = std::fmax(y1, Y[i]);
+    }
+    visited = 0;
+    if (!(area2 != 0.0) || !(x0 < x1) || !(y0 < y1)) return KernelSearch::kEmpty;  // flat, or not finite
+    const double sg = area2 > 0 ? 1.0 : -1.0;
+    // Two corner buffers, swapped after each clip. A clip adds at most one corner; the buffers
+    // hold two per corner, what the branch-free rebuild below may write before it is checked.
+    double px[2][2 * kMaxKernelCorners + 2], py[2][2 * kMaxKernelCorners + 2];
+    int cur = 0, k = 4;
+    px[0][0] = x0, py[0][0] = y0, px[0][1] = x1, py[0][1] = y0, px[0][2] = x1, py[0][2] = y1, px[0][3] = x0, py[0][3] = y1;
+    for (int32_t i = 0; i < n; ++i) {
+        visited = i + 1;
+        const int32_t j = i + 1 == n ? 0 : i + 1;
+        const double ax = X[i], ay = Y[i], ex = X[j] - ax, ey = Y[j] - ay;
+        if (ex == 0.0 && ey == 0.0) continue;  // an edge along l: floats do not resolve its line
+        const auto side = [&](double x, double y) { return sg * (ex * (y - ay) - ey * (x - ax)); };
+        const double *qx = px[cur], *qy = py[cur];
+        double sd[2 * kMaxKernelCorners + 2];
+        bool inside = true;  // most edges leave the polygon as it is
+        for (int a = 0; a < k; ++a) inside &= (sd[a] = side(qx[a], qy[a])) > 0;
+        if (inside) continue;
+        // Rebuild without data-dependent branches (their signs are unpredictable): every corner
+        // edge (b, a) writes its crossing and its end a, and keeps each only if it is one.
+        double *rx = px[1 - cur], *ry = py[1 - cur];
+        int m = 0;
+        double sp = sd[k - 1];
+        for (int a = 0, b = k - 1; a < k; b = a++) {
+            const double sa = sd[a];
+            const double t = sp / (sp - sa);  // kept only where the signs differ (then sp != sa)
+            rx[m] = qx[b] + t * (qx[a] - qx[b]), ry[m] = qy[b] + t * (qy[a] - qy[b]);
+            m += (sp > 0) != (sa > 0);
+            rx[m] = qx[a], ry[m] = qy[a];
+            m += sa > 0;
+            sp = sa;
+        }
+        if (m > kMaxKernelCorners) return KernelSearch::kTooManyCorners;
+        if (m < 3) return KernelSearch::kEmpty;
+        k = m;
+        cur = 1 - cur;
+    }
+    double sx = 0.0, sy = 0.0;
+    for (int a = 0; a < k; ++a) sx += px[cur][a], sy += py[cur][a];
+    o = c + ((sx / k) / f.uu) * f.u + ((sy / k) / dot(f.w, f.w)) * f.w;
+    return KernelSearch::kFound;
+}
+
+// A kernel point for the loop at V other than its mean m: clipped_kernel_point, or, if the
+// kernel polygon grows too many corners, the line search through m. False if neither finds one.
+inline bool find_kernel_point(const int32_t* loop, int32_t n, const double* V, const Vec3& l, const Vec3& m,
+                              ProjectionScratch& s, Vec3& o, int32_t& visited) {
+    const ProjectionFrame f = projection_frame(l);
+    const KernelSearch k = clipped_kernel_point(loop, n, V, f, s, o, visited);
+    if (k != KernelSearch::kTooManyCorners) return k == KernelSearch::kFound;
+    double d1;
+    int32_t searched = 0;
+    const bool found = search_kernel_point(loop, n, V, f, m, s, o, d1, searched);
+    visited += searched;
+    return found;
 }
 
 }  // namespace conecull
