@@ -98,6 +98,32 @@ def test_merge_contains_both_cones():
             continue
         merged += 1
         for axc, cbc, sbc in ((ax1[i], cb1[i], sb1[i]), (ax2[i], cb2[i], sb2[i])):
-            phi = np.arccos(min(1.0, float(np.dot(ax[i], axc))))
+            phi = np.arctan2(np.linalg.norm(np.cross(ax[i], axc)), np.dot(ax[i], axc))  # accurate near 0 too
             assert phi + theta(cbc, sbc) <= theta(cb[i], sb[i]) + 1e-9
     assert merged > k // 4
+
+
+def test_merge_is_the_smallest_cone_holding_both():
+    """Wide merges give the smallest cone holding both children: half-angle
+    max(theta_p, theta_q, (phi + theta_p + theta_q) / 2), not the bisector's
+    phi / 2 + max(theta_p, theta_q); narrow ones (cos > 0.9) may keep the bisector's."""
+    rng = np.random.default_rng(5)
+    k = 2000
+    a1 = rng.standard_normal((k, 3))
+    a1 /= np.linalg.norm(a1, axis=1)[:, None]
+    a2 = a1 + rng.uniform(0.0, 1.5, (k, 1)) * rng.standard_normal((k, 3))
+    a2 /= np.linalg.norm(a2, axis=1)[:, None]
+    t1, t2 = rng.uniform(0.0, 0.8, k), rng.uniform(0.0, 0.8, k)
+    ax, cb, sb = C.merge_cones(a1, np.cos(t1), np.sin(t1), a2, np.cos(t2), np.sin(t2))
+    phi = np.arctan2(np.linalg.norm(np.cross(a1, a2), axis=1), np.einsum("ij,ij->i", a1, a2))
+    smallest = np.maximum(np.maximum(t1, t2), 0.5 * (phi + t1 + t2))
+    bisector = 0.5 * phi + np.maximum(t1, t2)
+    theta = np.arccos(np.clip(cb, -1, 1))
+    wide = (smallest > np.arccos(0.9) + 1e-6) & (smallest < 0.5 * np.pi - 1e-6)
+    assert np.all(cb[wide] > 0), "a cone narrower than a hemisphere merged into a full one"
+    assert np.allclose(theta[wide], smallest[wide], atol=1e-9)
+    assert np.sum(bisector[wide] - smallest[wide] > 0.01) > k // 10  # cases where the bisector is wider
+    full = smallest > 0.5 * np.pi + 1e-6
+    assert np.all(cb[full] <= 0)
+    narrow = smallest < np.arccos(0.9) - 1e-6
+    assert np.all(theta[narrow] <= bisector[narrow] + 1e-9)

@@ -128,8 +128,9 @@ def test_front_stats_consistent_and_front_reused():
     """The first query builds the whole front (every entry added, none removed), later ones
     add and remove some (never a negative count); front_bytes counts its entries (8 bytes
     each); after the first frame of a smooth sequence the front saves box tests (resumed where
-    the last query stopped instead of from the top)."""
-    F, frames = bending_sheet(2000, n_frames=8)
+    the last query stopped instead of from the top). The waves are high enough that the cones
+    do not cull the whole sheet (amplitude 0.15 is culled at the root: see below)."""
+    F, frames = bending_sheet(2000, n_frames=8, amplitude=0.3)
     mesh = conecull.Mesh(F)
     cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
     for k, V in enumerate(frames):
@@ -152,7 +153,7 @@ def test_nc_front_smaller_than_aabb_front_on_a_smooth_sheet(scene, ratio):
     sheet (no self-intersection) and on a sheet folding onto itself, the guided front is a
     fraction of the conventional one."""
     if scene == "bending":
-        F, frames = bending_sheet(2000, n_frames=6, amplitude=0.15)
+        F, frames = bending_sheet(2000, n_frames=6, amplitude=0.3)
     else:
         F, V = sheet_for_triangles(2000)
         frames = [fold(V, a, radius=0.03) for a in np.linspace(0.95 * np.pi, 1.2 * np.pi, 6)]
@@ -163,6 +164,20 @@ def test_nc_front_smaller_than_aabb_front_on_a_smooth_sheet(scene, ratio):
         a, b = nc.dcd(V).stats, aabb.dcd(V).stats
         assert 0 < a["front_entries"] <= ratio * b["front_entries"], (a["front_entries"], b["front_entries"])
         assert a["front_bytes"] < b["front_bytes"]
+
+
+def test_gently_bending_sheet_is_culled_at_the_root():
+    """Waves of amplitude 0.15 keep every normal of the sheet within a hemisphere: the root's cone
+    (the smallest cone holding its children's, normal_cone.hpp) is bounded, its contour passes,
+    and nc+front keeps no front at all; the conventional front is there all the same."""
+    F, frames = bending_sheet(2000, n_frames=6, amplitude=0.15)
+    mesh = conecull.Mesh(F)
+    nc = conecull.SelfCollider(mesh, method="nc+front")
+    aabb = conecull.SelfCollider(mesh, method="aabb+front")
+    for V in frames:
+        a, b = nc.dcd(V), aabb.dcd(V)
+        assert a.stats["front_entries"] == 0 and a.stats["elementary_tests"] == 0 and len(a.pairs) == 0
+        assert a.stats["contour_passed"] == 1 and b.stats["front_entries"] > 0 and len(b.pairs) == 0
 
 
 def test_culled_region_keeps_no_front():
