@@ -232,6 +232,29 @@ def test_kernel_retry_finds_a_kernel_off_the_line_search():
     assert projected_simple(pts, l)
 
 
+def test_kernel_retry_falls_back_to_the_line_search_beyond_64_corners():
+    """A finely divided disk (1200 vertices) with a long spike along +y (1500 vertices a side):
+    the mean lies out in the spike, and the kernel (a strip inside the disk) is bounded by over
+    a hundred disk edges, so the clipping gives up at 64 corners; the line search through the
+    mean finds the strip and the test passes from its point. Counts: both attempts, the clipping
+    up to where it gave up, and the search's pass."""
+    s, c = np.sin(0.3), np.cos(0.3)
+    xs = np.linspace(c, 6.0, 1500)
+    ang = np.linspace(0.3, 2 * np.pi - 0.3, 1200)[1:-1]
+    flat = [(x, -s) for x in xs] + [(x, s) for x in xs[::-1]] + list(zip(np.cos(ang), np.sin(ang)))
+    pts = np.array([(-y, x, 0.0) for x, y in flat])  # turned: the spike points along +y
+    l = np.array([0.0, 0.0, 1.0])
+    ids = np.arange(len(pts), dtype=np.int32)
+    P = [tuple(p) for p in pts]
+    status, _, clipped = ex.clipped_kernel_candidate(P, tuple(l))
+    assert status == "too_many_corners"
+    first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
+    assert first["reason"] == 2
+    res = CT.contour_test(ids, pts, l)
+    assert res["passed"] and res["kernel"] == ex.sct_candidate(P, tuple(l))[0] == ex.kernel_candidate(P, tuple(l))
+    assert res["edges_visited"] == first["edges_visited"] + clipped + len(pts) + len(pts)
+
+
 @settings(max_examples=300, deadline=None)
 @given(loops())
 def test_contour_test_passes_wherever_the_kernel_has_room(loop):
