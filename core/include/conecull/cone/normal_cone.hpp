@@ -85,19 +85,18 @@ inline NormalCone triangle_cone(const Vec3& a, const Vec3& b, const Vec3& c) {
     return cone_around(n, err);
 }
 
-// The cone around a given axis a (unit up to rounding) holding the cones p and q, or full.
-// With phi_i = angle(a, axis_i) and theta_i a child's half-angle, every normal below lies
-// within psi_i = phi_i + theta_i of a; while psi_i < pi/2,
+// The cone around an axis a (unit up to rounding) holding the cones p and q, or full, given
+// cos and sin of the angles phi_p, phi_q from a to their axes (each within a few eps). Every
+// normal below lies within psi_i = phi_i + theta_i of a (theta_i a child's half-angle); while
+// psi_i < pi/2,
 // cos(psi_i) = cos(theta_i) cos(phi_i) - sin(theta_i) sin(phi_i) >= cos_bound cos(phi_i) - sin_bound sin(phi_i),
 // sin(psi_i) = sin(theta_i) cos(phi_i) + cos(theta_i) sin(phi_i) <= sin_bound cos(phi_i) + sin(phi_i),
-// with cos(phi_i) = a . axis_i and sin(phi_i) = |a x axis_i| up to a few eps (kConeSlack).
-// psi_i < 3 pi / 2, so a positive lower bound on cos(psi_i) proves psi_i < pi/2: a non-positive
-// bound is a full cone and never a false "bounded".
-inline NormalCone cone_about(const Vec3& a, const NormalCone& p, const NormalCone& q) {
+// with every rounding inside kConeSlack. psi_i < 3 pi / 2, so a positive lower bound on
+// cos(psi_i) proves psi_i < pi/2: a non-positive bound is a full cone, never a false "bounded".
+inline NormalCone cone_about(const Vec3& a, const NormalCone& p, double cp, double sp, const NormalCone& q, double cq,
+                             double sq) {
     NormalCone out;
     out.axis = a;
-    const double cp = dot(a, p.axis), sp = norm(cross(a, p.axis));
-    const double cq = dot(a, q.axis), sq = norm(cross(a, q.axis));
     out.cos_bound = std::min(p.cos_bound * cp - p.sin_bound * sp, q.cos_bound * cq - q.sin_bound * sq) - kConeSlack;
     out.sin_bound = std::max(p.sin_bound * cp + sp, q.sin_bound * cq + sq) + kConeSlack;
     if (!(out.cos_bound > 0.0)) return NormalCone::full();
@@ -111,24 +110,45 @@ inline NormalCone merge_bisector(const NormalCone& p, const NormalCone& q) {
     const double len = norm(s);
     // Nearly opposite axes: the merged cone is about a hemisphere or wider.
     if (!(len > 0.1)) return NormalCone::full();
-    NormalCone out;
-    out.axis = unit_axis(s, 1.0 / len);
-    // |p + q| = 2 cos(phi), |p - q| = 2 sin(phi); then the bounds of cone_about.
-    const double cos_phi = 0.5 * len;
-    const double sin_phi = 0.5 * norm(p.axis - q.axis);
-    const double c = std::min(p.cos_bound * cos_phi - p.sin_bound * sin_phi, q.cos_bound * cos_phi - q.sin_bound * sin_phi);
-    const double sn = std::max(p.sin_bound, q.sin_bound) * cos_phi + sin_phi;
-    out.cos_bound = c - kConeSlack;
-    out.sin_bound = sn + kConeSlack;
-    if (!(out.cos_bound > 0.0)) return NormalCone::full();
-    return out;
+    // |p + q| = 2 cos(phi), |p - q| = 2 sin(phi).
+    const double cos_phi = 0.5 * len, sin_phi = 0.5 * norm(p.axis - q.axis);
+    return cone_about(unit_axis(s, 1.0 / len), p, cos_phi, sin_phi, q, cos_phi, sin_phi);
 }
 
 // Below this cosine the merge looks for the smallest cone (about 26 degrees of half-angle):
 // narrower bisector cones are kept as they are. Measured on the scenes: the same culling as the
-// smallest cone everywhere (elementary tests within 0.5%), for 13% more instructions in the
-// refit instead of 55% (the square roots of the general axis; funnel, callgrind).
+// smallest cone everywhere (elementary tests within 0.5%), for 10% more instructions in the
+// refit instead of 55% (funnel, callgrind).
 inline constexpr double kMergeNarrow = 0.9;
+
+// The narrower of two valid cones.
+inline NormalCone best(const NormalCone& a, const NormalCone& b) { return b.cos_bound > a.cos_bound ? b : a; }
+
+// merge beyond kMergeNarrow: the axis of the smallest cone (see merge), given the bisector's
+// cone b. Out of line, so that the refit's loop stays small: inlined, it made the refit with two
+// threads as slow as with one (measured: 2.3-3.4 ms against 2.2 ms on the 64K fold; out of
+// line, 1.1 ms).
+[[gnu::noinline]] inline NormalCone merge_wide(const NormalCone& p, const NormalCone& q, const NormalCone& b) {
+    const double cphi = dot(p.axis, q.axis), sphi = norm(cross(p.axis, q.axis));
+    // z = e^{i 2 alpha} = e^{i phi} e^{i theta_q} e^{-i theta_p}; the bound pairs stand in for
+    // (cos, sin) of the half-angles (unit up to kConeSlack and the triangles' tiny r). Then
+    // 1 + z = 2 cos(alpha) e^{i alpha}: (ca, sa) = (1 + Re z, Im z) is (cos, sin) of alpha scaled
+    // by 2 cos(alpha) > 0 (alpha < pi/2 wherever the merged cone is bounded), no square root.
+    const double ur = cphi * q.cos_bound - sphi * q.sin_bound, ui = cphi * q.sin_bound + sphi * q.cos_bound;
+    const double ca = 1.0 + (ur * p.cos_bound + ui * p.sin_bound), sa = ui * p.cos_bound - ur * p.sin_bound;
+    if (!(ca > 0.0)) return b;  // alpha near pi/2: about a hemisphere anyway
+    if (!(sa > 0.0)) return best(b, cone_about(p.axis, p, dot(p.axis, p.axis), 0.0, q, cphi, sphi));  // p holds q
+    // v = cos(alpha) p + sin(alpha) (q - cos(phi) p) / sin(phi), times sin(phi) (> 0 here):
+    // v = wp p + wq q. Then |v x p| = wq sin(phi) and |v x q| = |wp| sin(phi).
+    const double wq = sa, wp = ca * sphi - sa * cphi;
+    if (!(wp > 0.0)) return best(b, cone_about(q.axis, p, cphi, sphi, q, dot(q.axis, q.axis), 0.0));  // q holds p
+    const Vec3 v{wp * p.axis.x + wq * q.axis.x, wp * p.axis.y + wq * q.axis.y, wp * p.axis.z + wq * q.axis.z};
+    const double len = norm(v);
+    if (!(len > 0.0) || !std::isfinite(len)) return b;
+    const double inv = 1.0 / len;
+    const Vec3 a = unit_axis(v, inv);
+    return best(b, cone_about(a, p, dot(a, p.axis), wq * sphi * inv, q, dot(a, q.axis), wp * sphi * inv));
+}
 
 // Bottom-up merge (Sec. 3.6 "merge these bounds in a bottom-up manner"): the smallest cone
 // holding both, up to rounding. Its axis lies on the great circle through both axes (phi
@@ -138,34 +158,12 @@ inline constexpr double kMergeNarrow = 0.9;
 // half-angle exceeds it by |theta_p - theta_q| / 2, and the excess adds up level by level: on the
 // funnel scene, 1622 of the 2735 full bisector cones among the nodes the traversal visits become
 // bounded. Trig-free: angles are (cos, sin) pairs, e^{i 2 alpha} = e^{i phi} e^{i theta_q}
-// e^{-i theta_p} and alpha by half-angle square roots. Choosing the axis needs no rigour (any
+// e^{-i theta_p} and alpha from 1 + e^{i 2 alpha}. Choosing the axis needs no rigour (any
 // axis is valid); cone_about then bounds the cone around it.
 inline NormalCone merge(const NormalCone& p, const NormalCone& q) {
     if (!p.bounded() || !q.bounded()) return NormalCone::full();
     const NormalCone b = merge_bisector(p, q);
-    if (b.cos_bound > kMergeNarrow) return b;
-    const double cphi = dot(p.axis, q.axis), sphi = norm(cross(p.axis, q.axis));
-    // e^{i phi} e^{i theta_q} e^{-i theta_p}; the bound pairs stand in for (cos, sin) of the
-    // half-angles (unit up to kConeSlack and the triangles' tiny r).
-    const double ur = cphi * q.cos_bound - sphi * q.sin_bound, ui = cphi * q.sin_bound + sphi * q.cos_bound;
-    const double zr = ur * p.cos_bound + ui * p.sin_bound, zi = ui * p.cos_bound - ur * p.sin_bound;
-    const double x = std::min(1.0, std::max(-1.0, zr));
-    const double ca = std::sqrt(0.5 * (1.0 + x)), sa = std::sqrt(0.5 * (1.0 - x));  // |alpha|
-    Vec3 a;
-    if (!(zi > 0.0) && !(zi == 0.0 && x < 0.0)) {
-        a = p.axis;  // alpha <= 0: p holds q
-    } else if (sa * cphi - ca * sphi >= 0.0) {
-        a = q.axis;  // alpha >= phi: q holds p
-    } else {
-        // 0 < alpha < phi (so sphi > 0): a = cos(alpha) p + sin(alpha) (q - cos(phi) p) / sin(phi).
-        const double wq = sa / sphi, wp = ca - wq * cphi;
-        const Vec3 v{wp * p.axis.x + wq * q.axis.x, wp * p.axis.y + wq * q.axis.y, wp * p.axis.z + wq * q.axis.z};
-        const double len = norm(v);
-        if (!(len > 0.5) || !std::isfinite(len)) return b;  // never for unit axes
-        a = unit_axis(v, 1.0 / len);
-    }
-    const NormalCone c = cone_about(a, p, q);
-    return c.cos_bound > b.cos_bound ? c : b;  // rounding never makes it worse than the bisector's
+    return b.cos_bound > kMergeNarrow ? b : merge_wide(p, q, b);
 }
 
 }  // namespace conecull
