@@ -127,3 +127,26 @@ def test_merge_is_the_smallest_cone_holding_both():
     assert np.all(cb[full] <= 0)
     narrow = smallest < np.arccos(0.9) - 1e-6
     assert np.all(theta[narrow] <= bisector[narrow] + 1e-9)
+
+
+@pytest.mark.parametrize("mode", ["same", "1e-12 apart", "nearly opposite", "random"])
+def test_merge_holds_both_children_in_extreme_cases(mode):
+    """Whatever the merge returns (smallest cone, a child's, or the bisector's) holds both
+    children: identical axes, axes 1e-12 apart, nearly opposite ones, half-angles from 0 to
+    within 1e-4 of pi/2 (children's bounds widened by 1e-15 as the core's are)."""
+    rng = np.random.default_rng(7)
+    k = 4000
+    a1 = rng.standard_normal((k, 3))
+    a1 /= np.linalg.norm(a1, axis=1)[:, None]
+    shift = {"same": 0.0, "1e-12 apart": 1e-12, "nearly opposite": 0.05, "random": 1.0}[mode]
+    a2 = (-a1 if mode == "nearly opposite" else a1) + shift * rng.uniform(0, 3, (k, 1)) * rng.standard_normal((k, 3))
+    a2 /= np.linalg.norm(a2, axis=1)[:, None]
+    scale = np.array([0.0, 1e-15, 1e-8, 0.3, 1.0, 1.5, 1.5707])
+    t1, t2 = (rng.choice(scale, k) * rng.uniform(0, 1, k) ** rng.integers(0, 2, k) for _ in range(2))
+    ax, cb, sb = C.merge_cones(a1, np.cos(t1) - 1e-15, np.sin(t1) + 1e-15, a2, np.cos(t2) - 1e-15, np.sin(t2) + 1e-15)
+    ok = cb > 0
+    assert ok.sum() > k // 4 or mode == "nearly opposite"
+    theta = np.minimum(np.arccos(np.clip(cb, -1, 1)), np.arcsin(np.clip(sb, 0, 1)))
+    for a, t in ((a1, t1), (a2, t2)):
+        phi = np.arctan2(np.linalg.norm(np.cross(ax, a), axis=1), np.einsum("ij,ij->i", ax, a))
+        assert not np.any(ok & (phi + t > theta + 1e-11))
