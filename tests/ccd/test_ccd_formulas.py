@@ -9,7 +9,7 @@ from hypothesis import given, settings, strategies as st
 
 import exact_twin as ex
 from conecull._core import ccd as C
-from contour.test_contour import projected_simple
+from contour.test_contour import _sideways_spike, projected_simple
 
 coord = st.floats(-2.0, 2.0, allow_nan=False).map(lambda x: 0.0 if abs(x) < 2.0**-100 else x)
 pt = st.tuples(coord, coord, coord)
@@ -229,9 +229,7 @@ def test_ccd_kernel_retry_off_the_line_search_on_a_moving_sideways_spike():
     its line) translated and turned a little over the step: the moving mean fails, and the
     clipped kernels' points at both ends pass, exactly as the twin says."""
     l = np.array([0.0, 0.0, 1.0])
-    spike = [[0.9, -0.1, 0], [6, -0.05, 0], [6.2, 0, 0], [6, 0.05, 0], [0.9, 0.1, 0]]
-    disc = [[0.7, 0.7, 0], [0, 1, 0], [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]]
-    P0 = np.array(spike + disc, float)
+    P0 = _sideways_spike()
     P1 = P0 + np.array([0.3, 0.1, -0.2]) + 0.003 * np.cross(l, P0)
     ids = np.arange(len(P0), dtype=np.int32)
     Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/predicates/det_sum.hpp"
@@ -78,24 +79,21 @@ inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop,
 // the kernel polygons are proper; in between, the test decides with exact signs.
 inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                                   const Vec3& l) {
-    const auto test = [&](const Vec3& o0, const Vec3& o1) {
-        return with_ray_retry(
-            l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o0, o1); });
+    using Ends = std::pair<Vec3, Vec3>;  // o at t = 0 and at t = 1
+    const auto test = [&](const Ends& o) {
+        return with_ray_retry(l, [&](const Vec3& r) {
+            return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o.first, o.second);
+        });
     };
     const Vec3 m0 = kernel_point(loop, n, V0), m1 = kernel_point(loop, n, V1);
-    ContourVerdict v = test(m0, m1);
-    if (!kernel_failed(v)) return v;
-    thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
-    Vec3 o0, o1;
-    int32_t searched0 = 0, searched1 = 0;
-    const bool found = find_kernel_point(loop, n, V0, l, m0, scratch, o0, searched0) &&
-                       find_kernel_point(loop, n, V1, l, m1, scratch, o1, searched1);
-    v.edges_visited += searched0 + searched1;
-    if (!found) return v;
-    const int32_t before = v.edges_visited;
-    v = test(o0, o1);
-    v.edges_visited += before;
-    return v;
+    const auto find = [&](ProjectionScratch& s, Ends& o, int32_t& searched) {
+        int32_t searched0 = 0, searched1 = 0;
+        const bool found = find_kernel_point(loop, n, V0, l, m0, s, o.first, searched0) &&
+                           find_kernel_point(loop, n, V1, l, m1, s, o.second, searched1);
+        searched = searched0 + searched1;
+        return found;
+    };
+    return with_kernel_retry<Ends>(test({m0, m1}), find, test);
 }
 
 }  // namespace conecull

@@ -148,21 +148,20 @@ inline bool kernel_failed(const ContourVerdict& v) {
            v.reason == ContourReason::kMultipleCrossings;
 }
 
-// test(o) with the mean (Alg. 1 line 2) and, if that o is not in the kernel, once more with a
-// kernel point of the loop at V (find_kernel_point: the kernel polygon's centre), when there is
-// one. A departure on the safe side: any o is valid, as every sign is exact. The mean leaves
-// the kernel of long bent contours (their vertices crowd one side), and then the whole subtree
-// below the node is traversed. The verdict is the last attempt's; edges_visited adds up both
-// attempts and the search's pass. m: the mean of the loop at V (kernel_point).
-template <class Test>
-ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V, const Vec3& l, const Vec3& m,
-                                 Test test) {
-    ContourVerdict v = test(m);
+// The kernel-point retry of Alg. 1 and Alg. 3: `v` is the verdict with the mean (Alg. 1 line 2);
+// if that o is not in the kernel, find(scratch, o, searched) looks for a kernel point K of the
+// loop (find_kernel_point: the kernel polygon's centre; for CCD, K holds both ends), and test(o)
+// runs once more when there is one. A departure on the safe side: any o is valid, as every sign
+// is exact. The mean leaves the kernel of long bent contours (their vertices crowd one side), and
+// then the whole subtree below the node is traversed. The verdict is the last attempt's;
+// edges_visited adds up both attempts and the search's pass.
+template <class K, class Find, class Test>
+ContourVerdict with_kernel_retry(ContourVerdict v, Find find, Test test) {
     if (!kernel_failed(v)) return v;
     thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
-    Vec3 o;
+    K o{};
     int32_t searched = 0;
-    const bool found = find_kernel_point(loop, n, V, l, m, scratch, o, searched);
+    const bool found = find(scratch, o, searched);
     v.edges_visited += searched;
     if (!found) return v;
     const int32_t before = v.edges_visited;
@@ -172,9 +171,14 @@ ContourVerdict with_kernel_retry(const int32_t* loop, int32_t n, const double* V
 }
 
 inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
-    return with_kernel_retry(loop, n, V, l, kernel_point(loop, n, V), [&](const Vec3& o) {
+    const auto test = [&](const Vec3& o) {
         return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r, o); });
-    });
+    };
+    const Vec3 m = kernel_point(loop, n, V);
+    return with_kernel_retry<Vec3>(
+        test(m),
+        [&](ProjectionScratch& s, Vec3& o, int32_t& searched) { return find_kernel_point(loop, n, V, l, m, s, o, searched); },
+        test);
 }
 
 }  // namespace conecull
