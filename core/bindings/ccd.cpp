@@ -21,9 +21,9 @@ Arithmetic parse_arithmetic(const std::string& s) {
 
 template <class Fn>
 py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], Fn fn) {
-    require_shape(x[0], names[0], -1, 3);
+    require_points(x[0], names[0], -1, 3);
     const py::ssize_t k = x[0].shape(0);
-    for (int i = 1; i < 8; ++i) require_shape(x[i], names[i], k, 3);
+    for (int i = 1; i < 8; ++i) require_points(x[i], names[i], k, 3);
     py::array_t<bool> out(k);
     {
         py::gil_scoped_release release;
@@ -67,10 +67,10 @@ void bind_ccd(py::module_& m) {
         "triangle_cone_ccd",
         [](const F64Array& a0, const F64Array& b0, const F64Array& c0, const F64Array& a1, const F64Array& b1,
            const F64Array& c1) {
-            require_shape(a0, "a0", -1, 3);
+            require_points(a0, "a0", -1, 3);
             const py::ssize_t k = a0.shape(0);
             for (const auto& [arr, name] : {std::pair<const F64Array*, const char*>{&b0, "b0"}, {&c0, "c0"}, {&a1, "a1"}, {&b1, "b1"}, {&c1, "c1"}})
-                require_shape(*arr, name, k, 3);
+                require_points(*arr, name, k, 3);
             py::array_t<double> axis({k, py::ssize_t(3)}), cb(k), sb(k);
             for (py::ssize_t i = 0; i < k; ++i) {
                 const NormalCone c = triangle_cone_ccd(row(a0, i), row(b0, i), row(c0, i), row(a1, i), row(b1, i), row(c1, i));
@@ -86,11 +86,11 @@ void bind_ccd(py::module_& m) {
         "csidesign1",
         [](const F64Array& o, const F64Array& b0, const F64Array& c0, const F64Array& b1, const F64Array& c1,
            const F64Array& l, std::optional<F64Array> o1) {
-            require_shape(o, "o", -1, 3);
+            require_points(o, "o", -1, 3);
             const py::ssize_t k = o.shape(0);
             for (const auto& [arr, name] : {std::pair<const F64Array*, const char*>{&b0, "b0"}, {&c0, "c0"}, {&b1, "b1"}, {&c1, "c1"}, {&l, "l"}})
-                require_shape(*arr, name, k, 3);
-            if (o1) require_shape(*o1, "o1", k, 3);
+                require_points(*arr, name, k, 3);
+            if (o1) require_points(*o1, "o1", k, 3);
             const F64Array& end = o1 ? *o1 : o;
             py::array_t<int8_t> out(k);
             for (py::ssize_t i = 0; i < k; ++i)
@@ -105,8 +105,8 @@ void bind_ccd(py::module_& m) {
         "contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r,
            std::optional<F64Array> o, std::optional<F64Array> o1) {
-            require_shape(V0, "V0", -1, 3);
-            require_shape(V1, "V1", V0.shape(0), 3);
+            require_points(V0, "V0", -1, 3);
+            require_points(V1, "V1", V0.shape(0), 3);
             const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             const std::optional<Vec3> start = opt_vec3(o, "o"), end = opt_vec3(o1, "o1");

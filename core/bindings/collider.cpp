@@ -150,7 +150,7 @@ void bind_collider(py::module_& m) {
         .def(
             "dcd",
             [](PyCollider& self, const F64Array& V, bool trace, int threads, bool stop_at_first) {
-                require_shape(V, "V", self.collider.topology().n_vertices, 3);
+                require_points(V, "V", self.collider.topology().n_vertices, 3);
                 check_threads(threads);
                 DcdResult res;
                 RecordingTracer tracer;
@@ -178,8 +178,8 @@ void bind_collider(py::module_& m) {
                bool toi, int threads) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
-                require_shape(V0, "V0", n, 3);
-                require_shape(V1, "V1", n, 3);
+                require_points(V0, "V0", n, 3);
+                require_points(V1, "V1", n, 3);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
                 RecordingTracer tracer;

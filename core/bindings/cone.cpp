@@ -31,9 +31,9 @@ void bind_cone(py::module_& m) {
     m.def(
         "triangle_cone",
         [](const F64Array& a, const F64Array& b, const F64Array& c) {
-            require_shape(a, "a", -1, 3);
-            require_shape(b, "b", a.shape(0), 3);
-            require_shape(c, "c", a.shape(0), 3);
+            require_points(a, "a", -1, 3);
+            require_points(b, "b", a.shape(0), 3);
+            require_points(c, "c", a.shape(0), 3);
             std::vector<NormalCone> out(a.shape(0));
             for (py::ssize_t i = 0; i < a.shape(0); ++i) out[i] = triangle_cone(row(a, i), row(b, i), row(c, i));
             return split(out);
@@ -50,6 +50,13 @@ void bind_cone(py::module_& m) {
             for (const F64Array* a : {&cos_p, &sin_p, &cos_q, &sin_q})
                 if (a->ndim() != 1 || a->shape(0) != k)
                     throw py::value_error("cos_p, sin_p, cos_q, sin_q: expected shape (" + std::to_string(k) + ",)");
+            // Cones are not coordinates (tiny axis components are fine), but must be numbers.
+            require_finite(axis_p, "axis_p");
+            require_finite(axis_q, "axis_q");
+            require_finite(cos_p, "cos_p");
+            require_finite(sin_p, "sin_p");
+            require_finite(cos_q, "cos_q");
+            require_finite(sin_q, "sin_q");
             std::vector<NormalCone> out(k);
             for (py::ssize_t i = 0; i < k; ++i) {
                 NormalCone p{row(axis_p, i), cos_p.data()[i], sin_p.data()[i]};

@@ -36,6 +36,7 @@ py::dict verdict_dict(const ContourVerdict& v) {
 Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
     if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
     if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
+    require_coordinates(l, "l");
     for (py::ssize_t i = 0; i < loop.shape(0); ++i)
         if (loop.data()[i] < 0 || loop.data()[i] >= n_vertices) throw py::value_error("loop: index out of range");
     return {l.data()[0], l.data()[1], l.data()[2]};
@@ -46,7 +47,7 @@ void bind_contour(py::module_& m) {
         "contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l, std::optional<F64Array> r,
            std::optional<F64Array> o) {
-            require_shape(V, "V", -1, 3);
+            require_points(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             return verdict_dict(contour_test_choosing(
@@ -65,7 +66,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "sct_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_shape(V, "V", -1, 3);
+            require_points(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             ProjectionScratch scratch;
             return verdict_dict(
@@ -76,7 +77,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "cbc_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_shape(V, "V", -1, 3);
+            require_points(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             return verdict_dict(quadratic_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis));
         },
@@ -85,8 +86,8 @@ void bind_contour(py::module_& m) {
     m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
-            require_shape(V0, "V0", -1, 3);
-            require_shape(V1, "V1", V0.shape(0), 3);
+            require_points(V0, "V0", -1, 3);
+            require_points(V1, "V1", V0.shape(0), 3);
             const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
             return verdict_dict(quadratic_contour_test_ccd(loop.data(), static_cast<int32_t>(loop.shape(0)), V0.data(),
                                                            V1.data(), axis));

@@ -15,6 +15,8 @@ void bind_elementary(py::module_& m) {
                 throw py::value_error("P: expected shape (" + std::to_string(k) + ", 3, 3), got " + shape_str(P));
             if (Q.ndim() != 3 || Q.shape(0) != k || Q.shape(1) != 3 || Q.shape(2) != 3)
                 throw py::value_error("Q: expected shape (" + std::to_string(k) + ", 3, 3), got " + shape_str(Q));
+            require_coordinates(P, "P");
+            require_coordinates(Q, "Q");
             py::array_t<bool> out(k);
             for (py::ssize_t i = 0; i < k; ++i) {
                 const double* p = P.data() + 9 * i;

@@ -7,12 +7,13 @@ namespace conecull::bind {
 namespace {
 
 template <class Fn>
-py::array_t<int8_t> rows4(const F64Array& a, const F64Array& b, const F64Array& c, const F64Array& d, Fn fn) {
-    require_shape(a, "a", -1, 3);
+py::array_t<int8_t> rows4(const F64Array& a, const F64Array& b, const F64Array& c, const F64Array& d,
+                          const char* const (&names)[4], Fn fn) {
+    require_points(a, names[0], -1, 3);
     const py::ssize_t k = a.shape(0);
-    require_shape(b, "b", k, 3);
-    require_shape(c, "c", k, 3);
-    require_shape(d, "d", k, 3);
+    require_points(b, names[1], k, 3);
+    require_points(c, names[2], k, 3);
+    require_points(d, names[3], k, 3);
     py::array_t<int8_t> out(k);
     for (py::ssize_t i = 0; i < k; ++i) out.mutable_data()[i] = static_cast<int8_t>(fn(row(a, i), row(b, i), row(c, i), row(d, i)));
     return out;
@@ -22,19 +23,19 @@ py::array_t<int8_t> rows4(const F64Array& a, const F64Array& b, const F64Array& 
 
 void bind_predicates(py::module_& m) {
     m.def("orient3d", [](const F64Array& a, const F64Array& b, const F64Array& c, const F64Array& d) {
-        return rows4(a, b, c, d, [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return orient3d(a, b, c, d); });
+        return rows4(a, b, c, d, {"a", "b", "c", "d"}, [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) { return orient3d(a, b, c, d); });
     }, py::arg("a"), py::arg("b"), py::arg("c"), py::arg("d"), "sign(((b - a) x (c - a)) . (d - a)) per row.");
     m.def("side_sign", [](const F64Array& a, const F64Array& b, const F64Array& c, const F64Array& l) {
-        return rows4(a, b, c, l, [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& l) { return side_sign(a, b, c, l); });
+        return rows4(a, b, c, l, {"a", "b", "c", "l"}, [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& l) { return side_sign(a, b, c, l); });
     }, py::arg("a"), py::arg("b"), py::arg("c"), py::arg("l"), "SideSign(a, b, c, l) = sign(((a - c) x (b - c)) . l) per row.");
     m.def("ray_side_sign", [](const F64Array& v, const F64Array& o, const F64Array& r, const F64Array& l) {
-        return rows4(v, o, r, l, [](const Vec3& v, const Vec3& o, const Vec3& r, const Vec3& l) { return ray_side_sign(v, o, r, l); });
+        return rows4(v, o, r, l, {"v", "o", "r", "l"}, [](const Vec3& v, const Vec3& o, const Vec3& r, const Vec3& l) { return ray_side_sign(v, o, r, l); });
     }, py::arg("v"), py::arg("o"), py::arg("r"), py::arg("l"), "SideSign(v, o, o + r, l) without rounding o + r per row.");
     m.def("orient2d", [](const F64Array& a, const F64Array& b, const F64Array& c) {
-        require_shape(a, "a", -1, 2);
+        require_points(a, "a", -1, 2);
         const py::ssize_t k = a.shape(0);
-        require_shape(b, "b", k, 2);
-        require_shape(c, "c", k, 2);
+        require_points(b, "b", k, 2);
+        require_points(c, "c", k, 2);
         py::array_t<int8_t> out(k);
         for (py::ssize_t i = 0; i < k; ++i) {
             const double* p = a.data() + 2 * i; const double* q = b.data() + 2 * i; const double* s = c.data() + 2 * i;
