@@ -14,8 +14,9 @@ METHODS = ("aabb", "nc", "aabb+front", "nc+front", "sct", "cbc")
 # notes it is not known to extend to CCD, whose baseline is "cbc" ([TCYM09]).
 CCD_METHODS = tuple(m for m in METHODS if m != "sct")
 
-# The exact predicates stay exact while no product of coordinate differences under- or
-# overflows; this range leaves ample room (degree-4 terms within 2^-1000 .. 2^530).
+# Coordinate values are checked by the core's bindings (core/bindings/common.hpp): finite, and
+# non-zero magnitudes in [2^-128, 2^128], where no product of coordinate differences in the exact
+# predicates under- or overflows (degree-4 terms stay within 2^-1000 .. 2^530).
 
 
 def _asarray(x, name: str) -> np.ndarray:
@@ -55,9 +56,7 @@ def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
         raise ValueError(f"{name}: expected shape (n, 3), got {a.shape}")
     if a.shape[0] != n_vertices:
         raise ValueError(f"{name}: has {a.shape[0]} rows but the mesh has {n_vertices} vertices")
-    # Values (finite, magnitudes in [2^-128, 2^128]) are checked by the core's bindings, with the
-    # argument, row and column in the message: one pass in C++ instead of several in NumPy.
-    return np.ascontiguousarray(a, dtype=np.float64)
+    return np.ascontiguousarray(a, dtype=np.float64)  # values: checked by the core (see the top)
 
 
 class Mesh:
