@@ -18,7 +18,7 @@ loop = np.array([0, 1, 2, 3], np.int32)
 topo = core.build_topology(np.array([[0, 1, 2], [1, 2, 3]], np.int32), 4)
 
 
-def with_bad(arrays, which, value, index=(0, 1)):
+def with_bad(arrays, which, value, index):
     out = [a.copy() for a in arrays]
     out[which][index] = value
     return out

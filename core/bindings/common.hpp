@@ -119,13 +119,19 @@ py::array_t<T> to_numpy(const std::vector<T>& v, py::ssize_t cols) {
     return a;
 }
 
-// An optional (3,) vector argument (a ray, a kernel point); ValueError naming it if mis-shaped.
+// A (3,) vector argument (an axis, a ray, a kernel point); ValueError naming it if mis-shaped
+// or out of the coordinate range.
+inline Vec3 vec3_arg(const F64Array& a, const char* name) {
+    if (a.ndim() != 1 || a.shape(0) != 3)
+        throw py::value_error(std::string(name) + ": expected shape (3,), got " + shape_str(a));
+    require_coordinates(a, name);
+    return Vec3{a.data()[0], a.data()[1], a.data()[2]};
+}
+
+// The same for an optional one.
 inline std::optional<Vec3> opt_vec3(const std::optional<F64Array>& a, const char* name) {
     if (!a) return std::nullopt;
-    if (a->ndim() != 1 || a->shape(0) != 3)
-        throw py::value_error(std::string(name) + ": expected shape (3,), got " + shape_str(*a));
-    require_coordinates(*a, name);
-    return Vec3{a->data()[0], a->data()[1], a->data()[2]};
+    return vec3_arg(*a, name);
 }
 
 // (k, 3) float64 rows -> Vec3.

@@ -35,11 +35,10 @@ py::dict verdict_dict(const ContourVerdict& v) {
 
 Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
     if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
-    if (l.ndim() != 1 || l.shape(0) != 3) throw py::value_error("l: expected shape (3,)");
-    require_coordinates(l, "l");
+    const Vec3 axis = vec3_arg(l, "l");
     for (py::ssize_t i = 0; i < loop.shape(0); ++i)
         if (loop.data()[i] < 0 || loop.data()[i] >= n_vertices) throw py::value_error("loop: index out of range");
-    return {l.data()[0], l.data()[1], l.data()[2]};
+    return axis;
 }
 
 void bind_contour(py::module_& m) {
