@@ -9,7 +9,7 @@ import conecull
 import meshcases
 from conecull._core import ccd as C
 from conecull.datasets.generated import fold, grid_sheet
-from shared_data import load_scalable_step, scalable_ccd_steps
+from shared_data import DATA, N_SCALABLE_STEPS, load_scalable_step, params, require, scalable_ccd_steps
 
 
 def brute_force_ccd(F, V0, V1, arithmetic):
@@ -82,11 +82,18 @@ def test_bad_input():
         col.ccd(V, V, arithmetic="fast")
 
 
+REAL_ROOT = DATA / "scalable-ccd"
 STEPS_REAL = scalable_ccd_steps()
 
 
-@pytest.mark.parametrize("scene,step", STEPS_REAL, ids=[f"{a}-{b}" for a, b in STEPS_REAL])
+def test_every_real_step_is_tested():
+    require(REAL_ROOT)
+    assert len(STEPS_REAL) == N_SCALABLE_STEPS, f"{REAL_ROOT}: steps {STEPS_REAL}, expected {N_SCALABLE_STEPS}"
+
+
+@pytest.mark.parametrize("scene,step", params(STEPS_REAL, [f"{a}-{b}" for a, b in STEPS_REAL], REAL_ROOT, arity=2))
 def test_real_steps_exact_equals_ground_truth(scene, step):
+    require(REAL_ROOT)
     F, V0, V1, vf_true, ee_true = load_scalable_step(scene, step)
     mesh = conecull.Mesh(F, n_vertices=len(V0))
     for method in conecull.CCD_METHODS:
