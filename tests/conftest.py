@@ -8,3 +8,11 @@ sys.path.insert(0, os.path.dirname(__file__))
 import tempfile  # noqa: E402
 
 os.environ.setdefault("CONECULL_CACHE", tempfile.mkdtemp(prefix="conecull-cache-"))
+
+# Hypothesis: a failure always prints how to replay it; in CI (.ci/run sets CONECULL_CI=1) the
+# examples are derived from each test's name, so a red run replays identically.
+from hypothesis import settings  # noqa: E402
+
+settings.register_profile("conecull", print_blob=True)
+settings.register_profile("conecull-ci", print_blob=True, derandomize=True, database=None)
+settings.load_profile("conecull-ci" if os.environ.get("CONECULL_CI") or os.environ.get("CI") else "conecull")

@@ -27,6 +27,7 @@ def col(method="nc"):
         (np.array([["a", "b", "c"]]), r"faces: expected an integer array"),
         (np.zeros((0, 4), dtype=np.int64), r"faces: expected shape \(m, 3\)"),
         ([[0, 1, 2], [3, 4]], r"faces: not a rectangular array"),
+        (np.ma.array(F, mask=np.eye(32, 3, dtype=bool)), r"faces: masked entries are not supported"),
     ],
 )
 def test_bad_faces(faces, match):
@@ -39,6 +40,9 @@ def test_face_index_out_of_range_with_n_vertices():
         conecull.Mesh(F, n_vertices=10)
     with pytest.raises(ValueError, match=r"n_vertices: expected an integer"):
         conecull.Mesh(F, n_vertices=25.0)
+    for n in (2**31, 2**63, np.uint64(2**64 - 1)):  # beyond the core's index type: named, not a TypeError
+        with pytest.raises(ValueError, match=rf"n_vertices: {int(n)} does not fit in 31 bits"):
+            conecull.Mesh(F, n_vertices=n)
 
 
 @pytest.mark.parametrize(
@@ -55,6 +59,9 @@ def test_face_index_out_of_range_with_n_vertices():
         (np.where(np.arange(75).reshape(25, 3) == 5, 1e-300, V), r"V: coordinate 1e-300 at row 1, column 2 is outside"),
         ([[0, 0, 0]], r"V: expected a float64"),
         ([[0.0, 0.0, 0.0]] * 24 + [[0.0, 1.0]], r"V: not a rectangular array"),
+        # converting would round: 1 + 2^-60 becomes 1, a different pose with other exact signs
+        (V.astype(np.longdouble) + np.longdouble(2.0) ** -60, r"V: dtype float128 would be rounded to float64"),
+        (np.ma.array(V, mask=np.eye(25, 3, dtype=bool)), r"V: masked entries are not supported"),
     ],
 )
 def test_bad_positions(Vb, match):
@@ -102,11 +109,16 @@ def test_core_rejects_bad_shapes_too():
 
 
 def test_float32_accepted_and_same_result():
-    Vf = V.copy()
-    Vf[:, 2] = 0.3 * np.sin(4 * Vf[:, 0])
-    Vf = Vf.astype(np.float32)
-    r32 = col().dcd(Vf)
-    r64 = col().dcd(Vf.astype(np.float64))
+    """float32 positions are widened exactly: the same pairs as the same values in float64, on a
+    pose that has some."""
+    from conecull.datasets.generated import fold
+
+    Fb, Vb = grid_sheet(12, 12)
+    Vf = fold(Vb, 1.2 * np.pi, radius=0.02).astype(np.float32)
+    mesh = conecull.Mesh(Fb)
+    r32 = conecull.SelfCollider(mesh).dcd(Vf)
+    r64 = conecull.SelfCollider(mesh).dcd(Vf.astype(np.float64))
+    assert len(r64.pairs) > 0
     assert np.array_equal(r32.pairs, r64.pairs)
 
 
@@ -138,7 +150,7 @@ def test_pairs_contract():
         assert key in res.stats
 
 
-def test_queries_release_the_gil_and_are_thread_safe():
+def test_queries_are_thread_safe():
     """Queries from several threads (same collider and separate ones) give identical results."""
     import threading
 
@@ -165,3 +177,38 @@ def test_queries_release_the_gil_and_are_thread_safe():
     for t in threads:
         t.join()
     assert not errors, errors
+
+
+def test_queries_release_the_gil():
+    """While a query runs in one thread, Python keeps running in another. The main thread spins and
+    records its longest pause: holding the GIL, a query would pause it for the whole query; with
+    the GIL released, pauses are the interpreter's switch interval (set to 0.5 ms here) or
+    scheduling (5-8 ms measured on a loaded 2-core VM, against 45 ms queries; a call that holds
+    the GIL, such as sorted() on a long list, paused it for the whole call). Asserted against half
+    the query's own duration."""
+    import sys
+    import threading
+    import time
+
+    from conecull.datasets.generated import folding_sheet
+
+    Fb, frames = folding_sheet(64000, 2)
+    c = conecull.SelfCollider(conecull.Mesh(Fb), method="aabb", threads=1)
+    c.dcd(frames[1])
+    t0 = time.perf_counter()
+    c.dcd(frames[1])
+    query = time.perf_counter() - t0
+    assert query > 0.02, f"the query ({query * 1e3:.1f} ms) is too short to tell a pause from a switch"
+    old = sys.getswitchinterval()
+    sys.setswitchinterval(0.0005)
+    try:
+        worker = threading.Thread(target=lambda: [c.dcd(frames[1]) for _ in range(4)])
+        longest, last = 0.0, time.perf_counter()
+        worker.start()
+        while worker.is_alive():
+            now = time.perf_counter()
+            longest, last = max(longest, now - last), now
+        worker.join()
+    finally:
+        sys.setswitchinterval(old)
+    assert longest < query / 2, f"the main thread paused {longest * 1e3:.1f} ms during {query * 1e3:.1f} ms queries"

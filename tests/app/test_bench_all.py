@@ -61,13 +61,46 @@ def test_bench_all_rejects_bad_options(capsys):
     assert "--skip: unknown sections" in capsys.readouterr().err
 
 
-def test_time_sequence_checks_methods_agree():
-    """The harness refuses to time methods whose answers differ (here: two different meshes'
-    colliders can't be compared, so we compare methods on one; all agree)."""
+def test_time_sequence_times_every_method_and_frame():
     F, P = load("crumple")
     med, per_frame, stats = time_sequence(F, P[-4:], ("aabb", "nc", "nc+front"), 1)
     assert set(med) == {"aabb", "nc", "nc+front"} and len(per_frame["nc"]) == 4
-    assert [s["colliding_pairs"] for s in stats["aabb"]] == [s["colliding_pairs"] for s in stats["nc"]]
+    assert all(len(stats[m]) == 4 and all(s is not None for s in stats[m]) for m in med)
+
+
+@pytest.mark.parametrize("ccd", [False, True])
+def test_the_harness_refuses_to_time_methods_that_disagree(ccd):
+    """Every pass compares each method's answer with the first's, pair for pair: a method that
+    drops one pair (or contact) stops the benchmark."""
+    from conecull.app.evaluation import _colliders, _timed_pass
+
+    F, P = load("crumple")
+    frames = P[-3:]
+    cols = _colliders(F, frames, ("aabb", "nc"), 1)
+
+    class DropsOnePair:  # "nc", but the last pair of every answer is lost
+        def __init__(self, col):
+            self.col = col
+
+        def dcd(self, V):
+            res = self.col.dcd(V)
+            res.pairs = res.pairs[:-1]
+            return res
+
+        def ccd(self, V0, V1, arithmetic):
+            res = self.col.ccd(V0, V1, arithmetic=arithmetic)
+            res.vf, res.ee = res.vf[:-1], res.ee[:-1]
+            return res
+
+    ms = {m: [[] for _ in frames] for m in cols}
+    stats = {m: [None] * len(frames) for m in cols}
+    _timed_pass(cols, frames, ms, stats, ccd=ccd)  # the real methods agree
+    n = sum(len(cols["aabb"].ccd(a, b).vf) + len(cols["aabb"].ccd(a, b).ee) if ccd else len(cols["aabb"].dcd(a).pairs)
+            for a, b in zip(frames, frames[1:]))
+    assert n > 0  # there is a pair to drop
+    cols["nc"] = DropsOnePair(cols["nc"])
+    with pytest.raises(AssertionError, match="nc disagrees with aabb at"):
+        _timed_pass(cols, frames, ms, stats, ccd=ccd)
 
 
 def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):

@@ -11,7 +11,7 @@ import pytest
 import conecull
 from conecull.datasets.generated import fold, grid_sheet
 from oracle import brute_force_pairs
-from test_ccd_traversal import brute_force_ccd
+from ccd_brute_force import brute_force_ccd
 
 FRONT = {"aabb+front": "aabb", "nc+front": "nc"}
 

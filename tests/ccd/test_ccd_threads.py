@@ -7,7 +7,7 @@ import pytest
 
 import conecull
 from conecull.datasets.generated import fold, grid_sheet
-from test_ccd_traversal import brute_force_ccd
+from ccd_brute_force import brute_force_ccd
 from thread_cases import THREADS, counters, sequences
 
 

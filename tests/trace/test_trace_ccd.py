@@ -5,7 +5,9 @@ import numpy as np
 import pytest
 
 import conecull
-from ccd.test_ccd_traversal import STEPS, brute_force_ccd
+from ccd_brute_force import brute_force_ccd, generated_steps
+
+STEPS = generated_steps()
 
 
 @pytest.mark.parametrize("name,F,V0,V1", STEPS, ids=[s[0] for s in STEPS])

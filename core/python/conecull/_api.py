@@ -21,10 +21,23 @@ CCD_METHODS = tuple(m for m in METHODS if m != "sct")
 
 def _asarray(x, name: str) -> np.ndarray:
     """np.asarray, with NumPy's complaints about ragged or odd input naming the argument."""
+    if np.ma.is_masked(x):  # np.asarray would drop the mask and use the hidden values
+        raise ValueError(f"{name}: masked entries are not supported (pass the array without a mask)")
     try:
         return np.asarray(x)
     except (ValueError, TypeError) as e:
         raise ValueError(f"{name}: not a rectangular array ({e})") from None
+
+
+def _as_float64(a: np.ndarray, name: str) -> np.ndarray:
+    """a as float64 if that conversion is exact; otherwise a ValueError (a rounded coordinate
+    would make every exact sign after it the sign of another input)."""
+    if a.dtype.kind == "f" and a.dtype.itemsize > 8:
+        raise ValueError(f"{name}: dtype {a.dtype} would be rounded to float64; pass float64 (or float32)")
+    b = a.astype(np.float64)
+    if a.dtype.kind in "iu" and a.dtype.itemsize > 4 and not np.array_equal(b.astype(a.dtype), a):
+        raise ValueError(f"{name}: integer coordinates beyond 2^53 are not exactly float64")
+    return np.ascontiguousarray(b)
 
 
 def _as_faces(faces) -> np.ndarray:
@@ -56,7 +69,7 @@ def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
         raise ValueError(f"{name}: expected shape (n, 3), got {a.shape}")
     if a.shape[0] != n_vertices:
         raise ValueError(f"{name}: has {a.shape[0]} rows but the mesh has {n_vertices} vertices")
-    return np.ascontiguousarray(a, dtype=np.float64)  # values: checked by the core (see the top)
+    return _as_float64(a, name)  # values: checked by the core (see the top)
 
 
 class Mesh:
@@ -75,6 +88,8 @@ class Mesh:
             raise ValueError(f"n_vertices: expected an integer, got {type(n_vertices).__name__}")
         elif n_vertices < needed:
             raise ValueError(f"n_vertices: {n_vertices} is smaller than the largest face index + 1 ({needed})")
+        elif n_vertices > 2**31 - 1:
+            raise ValueError(f"n_vertices: {n_vertices} does not fit in 31 bits")
         try:
             self._topo = _core.build_topology(f, int(n_vertices))
         except MemoryError:
@@ -298,7 +313,7 @@ def _as_point(x, name: str) -> np.ndarray:
         raise ValueError(f"{name}: expected 3 real coordinates, got dtype {a.dtype}")
     if a.shape != (3,):
         raise ValueError(f"{name}: expected shape (3,), got {a.shape}")
-    return _as_positions(a.astype(np.float64).reshape(1, 3), 1, name)
+    return _as_positions(_as_float64(a, name).reshape(1, 3), 1, name)
 
 
 def _check_arithmetic(arithmetic):

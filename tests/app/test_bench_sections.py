@@ -1,0 +1,55 @@
+"""The benchmark sections other than `bench all` (dcd, trace, contour, threads) run headless at toy
+sizes and write their JSON. Their timings are not tested; their counters are, against the
+invariants of the methods (a front gives the candidates of a traversal from the root, cones only
+remove candidates, every method finds the same pairs)."""
+
+import json
+
+import pytest
+
+from conecull.app.cli import main
+
+
+def run(tmp_path, section, *extra):
+    out = tmp_path / section
+    assert main(["bench", section, "--triangles", "2000", "--frames", "2", "--repeats", "1", "--out", str(out),
+                 *extra]) == 0
+    return json.loads((out / f"{section}.json").read_text())
+
+
+def test_bench_dcd(tmp_path):
+    res = run(tmp_path, "dcd")
+    rows = {(r["method"], r["leaf_size"]): r for r in res["results"]}
+    methods = {m for m, _ in rows}
+    assert methods == {"aabb", "nc", "aabb+front", "nc+front", "sct", "cbc"}
+    for leaf in {ls for _, ls in rows}:
+        tests = {m: rows[m, leaf]["elementary_tests"] for m in methods}
+        assert tests["aabb+front"] == tests["aabb"] and tests["nc+front"] == tests["nc"], leaf
+        assert all(tests[m] <= tests["aabb"] for m in methods), (leaf, tests)
+        assert tests["nc"] < tests["aabb"], (leaf, tests)  # the folded sheet has cullable regions
+
+
+def test_bench_trace(tmp_path):
+    res = run(tmp_path, "trace")
+    assert set(res["median_ms"]) == {"hook-free build", "trace off", "trace on"}
+    assert all(len(v) == res["frames"] for v in res["per_frame_ms"].values())
+
+
+def test_bench_contour(tmp_path):
+    res = run(tmp_path, "contour")
+    rows = {(r["query"], r["method"]): r for r in res["rows"]}
+    assert set(rows) == {("DCD", "nc"), ("DCD", "sct"), ("DCD", "cbc"), ("CCD", "nc"), ("CCD", "cbc")}
+    for q in ("DCD", "CCD"):
+        pairs = {rows[k]["colliding_pairs"] for k in rows if k[0] == q}
+        assert len(pairs) == 1, (q, pairs)
+    assert all(r["contour_tests"] > 0 and r["contour_passed"] <= r["contour_tests"] for r in rows.values())
+
+
+@pytest.mark.parametrize("threads", ["2", "3"])
+def test_bench_threads(tmp_path, threads):
+    res = run(tmp_path, "threads", "--threads", threads)
+    got = {(r["kind"], r["query"], r["threads"]) for r in res["rows"]}
+    queries = {(k, q) for k, q, _ in got}
+    assert {("dcd", m) for m in ("aabb", "nc", "aabb+front", "nc+front")} <= queries
+    assert {("ccd", f"ccd {a}") for a in ("float", "conservative", "exact")} <= queries
+    assert got == {(k, q, t) for k, q in queries for t in (1, int(threads))}
