@@ -199,6 +199,15 @@ def _frame(l):
     return u, w, _fdot(u, u), k
 
 
+def _predicate_domain(o):
+    """in_predicate_domain (kernel_point.hpp): a computed kernel point's coordinates must be 0 or
+    of magnitude in [2^-128, 2^128]; tiny ones become 0 (any o is valid), a huge or non-finite one
+    means no point (None)."""
+    if not all(abs(x) <= 2.0**128 for x in o):
+        return None
+    return tuple(0.0 if abs(x) < 2.0**-128 else x for x in o)
+
+
 def sct_candidate(loop_pts, l):
     """SCT's float steps replicated operation by operation (IEEE doubles, no FMA, as the core is
     built): the projection frame, the projected coordinates, and the [SPO10] line search.
@@ -237,7 +246,7 @@ def sct_candidate(loop_pts, l):
         if lo[s] < hi[s] and abs(lo[s]) != inf and abs(hi[s]) != inf:
             xo = 0.5 * (lo[s] + hi[s])
             t = (xo - Xm) / uu
-            return (m[0] + t * u[0], m[1] + t * u[1], m[2] + t * u[2]), u, k
+            return _predicate_domain((m[0] + t * u[0], m[1] + t * u[1], m[2] + t * u[2])), u, k
     return None, u, k
 
 
@@ -297,7 +306,8 @@ def clipped_kernel_candidate(loop_pts, l):
         sx += q[0]
         sy += q[1]
     A, B = (sx / len(poly)) / uu, (sy / len(poly)) / _fdot(w, w)
-    return "found", tuple(c[i] + A * u[i] + B * w[i] for i in range(3)), n
+    o = _predicate_domain(tuple(c[i] + A * u[i] + B * w[i] for i in range(3)))
+    return ("found", o, n) if o is not None else ("empty", None, n)
 
 
 def kernel_candidate(loop_pts, l):

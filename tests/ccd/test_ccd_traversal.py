@@ -16,19 +16,28 @@ STEPS = generated_steps()
 
 @pytest.mark.parametrize("name,F,V0,V1", STEPS, ids=[s[0] for s in STEPS])
 @pytest.mark.parametrize("arithmetic", ["exact", "conservative", "float"])
-def test_methods_equal_brute_force(name, F, V0, V1, arithmetic):
+def test_methods_against_brute_force(name, F, V0, V1, arithmetic):
+    """Exact: every method returns exactly the brute force's contacts. Conservative and float
+    decide a pair only approximately, so which near-misses a method reports depends on which pairs
+    its culling lets through (a culled region holds no contact, but may hold a conservative false
+    positive): every method's answer is within the brute force's in the same mode, and
+    conservative holds every exact contact."""
     vf_ref, ee_ref = brute_force_ccd(F, V0, V1, arithmetic)
-    if arithmetic == "exact" and name in ("fold", "two-sheets"):
-        assert vf_ref and ee_ref  # the step really has contacts
-    if arithmetic == "conservative":
-        vf_ex, ee_ex = brute_force_ccd(F, V0, V1, "exact")
-        assert vf_ex <= vf_ref and ee_ex <= ee_ref  # conservative never misses
+    vf_ex, ee_ex = brute_force_ccd(F, V0, V1, "exact")
+    if name in ("fold", "two-sheets"):
+        assert vf_ex and ee_ex  # the step really has contacts
     mesh = conecull.Mesh(F, n_vertices=len(V0))
     for method in conecull.CCD_METHODS:
         col = conecull.SelfCollider(mesh, method=method)
         res = col.ccd(V0, V1, arithmetic=arithmetic)
-        assert {tuple(r) for r in res.vf.tolist()} == vf_ref, f"{name} {method}: VF differ"
-        assert {tuple(r) for r in res.ee.tolist()} == ee_ref, f"{name} {method}: EE differ"
+        vf, ee = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
+        if arithmetic == "exact":
+            assert vf == vf_ref, f"{name} {method}: VF FN {sorted(vf_ref - vf)[:5]} FP {sorted(vf - vf_ref)[:5]}"
+            assert ee == ee_ref, f"{name} {method}: EE FN {sorted(ee_ref - ee)[:5]} FP {sorted(ee - ee_ref)[:5]}"
+        else:
+            assert vf <= vf_ref and ee <= ee_ref, f"{name} {method}: a pair the same test rejects pair by pair"
+        if arithmetic == "conservative":
+            assert vf_ex <= vf and ee_ex <= ee, f"{name} {method}: conservative missed a contact"
         assert np.array_equal(res.vf, np.unique(res.vf, axis=0)) and np.array_equal(res.ee, np.unique(res.ee, axis=0))
         s = res.stats
         assert s["vf_tests"] + s["ee_tests"] + s["npf_culled"] == s["vf_candidates"] + s["ee_candidates"]

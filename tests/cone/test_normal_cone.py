@@ -150,3 +150,36 @@ def test_merge_holds_both_children_in_extreme_cases(mode):
     for a, t in ((a1, t1), (a2, t2)):
         phi = np.arctan2(np.linalg.norm(np.cross(ax, a), axis=1), np.einsum("ij,ij->i", ax, a))
         assert not np.any(ok & (phi + t > theta + 1e-11))
+
+
+def test_merge_of_nearly_opposite_narrow_cones_keeps_both_bounds():
+    """Axes pi - delta apart (delta from 1e-9 to 1e-3), half-angles below delta / 4: the merged
+    cone is bounded, and its (cos, sin) pair must still bound the half-angle psi it needs to hold
+    both children: cos_bound <= cos(psi) and sin_bound >= sin(psi). psi is computed from exact
+    dot products (fractions) of the returned axis with the children's. With the sines taken from
+    the nearly cancelling sum of the axes, sin_bound fell short of sin(psi) by up to 8e-9."""
+    rng = np.random.default_rng(3)
+    k = 300
+    p = rng.standard_normal((k, 3))
+    p /= np.linalg.norm(p, axis=1)[:, None]
+    perp = np.cross(p, rng.standard_normal((k, 3)))
+    perp /= np.linalg.norm(perp, axis=1)[:, None]
+    delta = 10.0 ** rng.uniform(-9, -3, k)
+    q = -p + delta[:, None] * perp
+    q /= np.linalg.norm(q, axis=1)[:, None]
+    tp, tq = delta * rng.uniform(0, 0.25, k), delta * rng.uniform(0, 0.25, k)
+    cp_, sp_, cq_, sq_ = np.cos(tp), np.sin(tp) + 1e-18, np.cos(tq), np.sin(tq) + 1e-18
+    ax, cb, sb = C.merge_cones(p, cp_, sp_, q, cq_, sq_)
+    assert (cb > 0).sum() > k // 2
+    for i in np.flatnonzero(cb > 0):
+        a = ax[i]
+        na = float(sum(Fr(x) ** 2 for x in a)) ** 0.5
+        cos_psi, sin_psi = 1.0, 0.0
+        for c, cc, sc in ((p[i], cp_[i], sp_[i]), (q[i], cq_[i], sq_[i])):
+            cos_ac = float(sum(Fr(x) * Fr(y) for x, y in zip(a, c))) / (na * np.linalg.norm(c))
+            sin_ac = np.sqrt(max(0.0, 1.0 - cos_ac * cos_ac))
+            cos_need, sin_need = cos_ac * cc - sin_ac * sc, sin_ac * cc + cos_ac * sc  # angle(a, c) + theta_c
+            if cos_need < cos_psi:
+                cos_psi, sin_psi = cos_need, sin_need
+        assert cb[i] <= cos_psi + 1e-15, (i, cb[i], cos_psi)
+        assert sb[i] >= sin_psi - 1e-15, (i, delta[i], sb[i], sin_psi)

@@ -205,6 +205,32 @@ def test_kernel_retry_passes_a_star_whose_mean_is_outside_its_kernel():
         CT.contour_test(ids, pts, l, o=np.zeros(2))
 
 
+def test_kernel_point_lies_in_the_predicates_domain(monkeypatch):
+    """The retry's kernel point enters the exact predicates like a vertex, so its coordinates must
+    be 0 or of magnitude >= 2^-128 (below, expansion products could underflow). The spiked star at
+    scale 2^-80, moved so that its clipped kernel point sits at the origin: recomputed, that point
+    comes out with a coordinate of ~1e-40. The core sets it to 0 (any o is valid), as the twin
+    does, and the test still passes."""
+    l = np.array([0.0, 0.0, 1.0])
+    star = np.array([[1, 0, 0], [0.7, 0.7, 0], [0.1, 0.9, 0], [0.05, 6, 0], [0, 6.2, 0], [-0.05, 6, 0],
+                     [-0.1, 0.9, 0], [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]])
+    rng = np.random.default_rng(0)
+    pts = star * 2.0**-80 + np.array([rng.uniform(-1, 1) * 2.0**-78, rng.uniform(-1, 1) * 2.0**-78, 0.0])
+    o = ex.clipped_kernel_candidate([tuple(p) for p in pts], tuple(l))[1]
+    pts = pts - np.array([o[0], o[1], 0.0])
+    pts[np.abs(pts) < 2.0**-128] = 0.0  # vertices must be in the domain too
+    P = [tuple(p) for p in pts]
+    with monkeypatch.context() as m:
+        m.setattr(ex, "_predicate_domain", lambda o: o)
+        raw = ex.clipped_kernel_candidate(P, tuple(l))[1]
+    assert any(0 < abs(x) < 2.0**-128 for x in raw), raw  # the case this test is about
+    ids = np.arange(len(pts), dtype=np.int32)
+    res = CT.contour_test(ids, pts, l)  # the mean lies in the spike: the retry's point decides
+    assert all(x == 0 or abs(x) >= 2.0**-128 for x in res["kernel"]), res["kernel"]
+    assert res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l))[1]
+    assert res["passed"] and ex.contour_test(P, tuple(l), o=res["kernel"], r=res["ray"])[0]
+
+
 def _sideways_spike():
     """The spiked star turned to point along x: the mean lies out in the spike (x = 1.58), and
     the line the [SPO10] search scans for l = z (the frame's u = y: the line x = mean x) runs

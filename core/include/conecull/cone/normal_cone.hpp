@@ -147,7 +147,11 @@ inline NormalCone best(const NormalCone& a, const NormalCone& b) { return b.cos_
     if (!(len > 0.0) || !std::isfinite(len)) return b;
     const double inv = 1.0 / len;
     const Vec3 a = unit_axis(v, inv);
-    return best(b, cone_about(a, p, dot(a, p.axis), wq * sphi * inv, q, dot(a, q.axis), wp * sphi * inv));
+    // The sines from a itself, like the cosines: wq sin(phi) / |v| is the same value in exact
+    // arithmetic, but for nearly opposite axes v nearly cancels, |v| carries a relative error of
+    // ~eps / (pi - phi), and that sine could fall short of the true one by far more than
+    // kConeSlack (found by review: 8e-9 for two narrow antipodal cones).
+    return best(b, cone_about(a, p, dot(a, p.axis), norm(cross(a, p.axis)), q, dot(a, q.axis), norm(cross(a, q.axis))));
 }
 
 // Bottom-up merge (Sec. 3.6 "merge these bounds in a bottom-up manner"): the smallest cone

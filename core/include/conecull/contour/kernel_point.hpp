@@ -21,6 +21,23 @@
 
 namespace conecull {
 
+// A computed kernel point enters the exact predicates like a vertex, so it must lie in their
+// domain too: each coordinate 0 or of magnitude in [2^-128, 2^128] (what the bindings demand of
+// positions; outside it, products in the expansions could underflow). Any o is valid, so tiny
+// coordinates are set to 0; a huge or non-finite one means no usable point (the test fails, not
+// culled). The mean needs no check: no larger than the largest vertex coordinate, and a non-zero
+// coordinate of it is a rounded multiple of 2^-180 (the vertices' finest grid) over n < 2^31, so at
+// least 2^-211 with a grid of 2^-263, coarse enough that no product in the expansions underflows.
+inline bool in_predicate_domain(Vec3& o) {
+    double* c[3] = {&o.x, &o.y, &o.z};
+    for (double* x : c) {
+        const double a = std::fabs(*x);
+        if (!(a <= 0x1p128)) return false;  // also NaN
+        if (a < 0x1p-128) *x = 0.0;
+    }
+    return true;
+}
+
 // Alg. 1 line 2: kernel point o = mean of the contour vertices (of V). Rounding only moves it.
 inline Vec3 kernel_point(const int32_t* loop, int32_t n, const double* V) {
     Vec3 sum;
@@ -117,7 +134,7 @@ inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V,
         if (lo[k] < hi[k] && std::isfinite(lo[k]) && std::isfinite(hi[k])) {
             const double xo = 0.5 * (lo[k] + hi[k]);
             o = m + ((xo - Xm) / f.uu) * f.u;
-            return true;
+            return in_predicate_domain(o);
         }
     return false;
 }
@@ -191,7 +208,7 @@ inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const d
     double sx = 0.0, sy = 0.0;
     for (int a = 0; a < k; ++a) sx += px[cur][a], sy += py[cur][a];
     o = c + ((sx / k) / f.uu) * f.u + ((sy / k) / dot(f.w, f.w)) * f.w;
-    return KernelSearch::kFound;
+    return in_predicate_domain(o) ? KernelSearch::kFound : KernelSearch::kEmpty;
 }
 
 // A kernel point for the loop at V other than its mean m: clipped_kernel_point, or, if the
