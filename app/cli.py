@@ -8,41 +8,49 @@ import sys
 
 def main(argv: list[str] | None = None) -> int:
     from conecull._api import METHODS  # "sct" is DCD only: `record --ccd --method sct` is refused with a ValueError
+    from conecull.datasets.inputs import DEFAULT_SCENE
 
     parser = argparse.ArgumentParser(prog="conecull", description="Reliable self-collision culling with unprojected normal cones")
     sub = parser.add_subparsers(dest="command", required=True)
 
+    method_help = "culling method (default nc)"
     p = sub.add_parser("demo", help="record the demo scene (a sheet folding onto itself) to an .rrd and print per-frame stats")
     p.add_argument("--out", default="demo.rrd", help="recording to write (default demo.rrd)")
-    p.add_argument("--method", choices=list(METHODS), default="nc")
+    p.add_argument("--method", choices=list(METHODS), default="nc", help=method_help)
 
     p = sub.add_parser("record", help="trace a mesh sequence and write a rerun recording (.rrd)")
-    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
+    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--out", default="run.rrd", help="recording to write (default run.rrd)")
-    p.add_argument("--method", choices=list(METHODS), default="nc")
-    p.add_argument("--frames", help="A:B (B exclusive) or K: the frames to record (default all)")
+    p.add_argument("--method", choices=list(METHODS), default="nc",
+                   help="culling method (default nc; --ccd: any but sct)")
+    p.add_argument("--frames", help="A:B (B exclusive) or K, frames counted from 0: the frames to record "
+                                    "(default all)")
     p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
     p.add_argument("--ccd", action="store_true", help="continuous: frame k shows the step from frame k to k + 1")
     p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
                    help="CCD arithmetic (default exact)")
 
     p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
-    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP)
+    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
-    p.add_argument("--port", type=int, default=8080, help="port (viser moves to the next free one; the real one is printed)")
-    p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1)")
-    p.add_argument("--method", choices=list(METHODS), default="nc")
+    p.add_argument("--port", type=int, default=8080,
+                   help="port in [0, 65535] (default 8080; if taken, viser moves to the next free one; 0: any free "
+                        "one; the real one is printed)")
+    p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1; 0.0.0.0: all interfaces)")
+    p.add_argument("--method", choices=list(METHODS), default="nc", help="culling method shown first; the viewer "
+                   "switches between all (default nc)")
 
     p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
     p.add_argument("input", help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
-    p.add_argument("--frame", type=int, required=True)
-    p.add_argument("--node", type=int, required=True)
-    p.add_argument("--method", choices=list(METHODS), default="nc")
+    p.add_argument("--frame", type=int, required=True, help="the frame to query, counted from 0 (required)")
+    p.add_argument("--node", type=int, required=True,
+                   help="the BVH node id, 0 the root (required; `conecull record` shows node ids in its log)")
+    p.add_argument("--method", choices=list(METHODS), default="nc", help=method_help)
 
     p = sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
     p.add_argument("--generate", nargs="*", metavar="NAME",
@@ -64,7 +72,9 @@ def main(argv: list[str] | None = None) -> int:
                    help="all: re-render the scene tables and plots of a finished run (its paper.json) into --out")
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads")
-    p.add_argument("--triangles", type=int, default=64000)
+    p.add_argument("--triangles", type=int, default=64000,
+                   help="triangles of the generated folding sheet the suites query (all: its step in the steps "
+                        "table, and the contour, ccd and threads sections) (default 64000)")
     p.add_argument("--frames", type=int, default=8, help="frames per query sequence (all: the last N of each scene)")
     p.add_argument("--repeats", type=int, help="timed runs per frame; medians are reported (default 5; all: 3)")
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
@@ -75,13 +85,23 @@ def main(argv: list[str] | None = None) -> int:
     args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
         return _run(args)
-    except (ValueError, FileNotFoundError) as e:
-        print(f"conecull {args.command}: error: {e}", file=sys.stderr)
+    except (ValueError, FileNotFoundError, MemoryError) as e:
+        print(f"conecull {args.command}: error: {_as_option(str(e))}", file=sys.stderr)
         return 2
 
 
-INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames with identical faces, "
-              "or one mesh file (with --positions)")
+INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames with identical faces "
+              "(in the order of the numbers in their names), or one mesh file (with --positions)")
+
+# The library names its Python arguments (load_sequence's positions=, record's frame_range=, ...);
+# the CLI passes its options' values to them, so it names the option the user typed.
+OPTION_OF = {"positions": "--positions", "resolution": "--resolution", "method": "--method",
+             "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth"}
+
+
+def _as_option(message: str) -> str:
+    head, sep, rest = message.partition(": ")
+    return f"{OPTION_OF[head]}: {rest}" if sep and head in OPTION_OF else message
 
 
 def _progress(done: int, total: int) -> None:
@@ -93,13 +113,9 @@ def _progress(done: int, total: int) -> None:
 
 def _check_out_file(out: str) -> None:
     """A recording is written at the end of a run: refuse a path it cannot be written to up front."""
-    import os
+    from conecull.datasets.checks import writable_file
 
-    if os.path.isdir(out):
-        raise ValueError(f"--out: '{out}' is a directory; give a file name such as {os.path.join(out, 'run.rrd')}")
-    parent = os.path.dirname(os.path.abspath(out))
-    if not os.path.isdir(parent):
-        raise ValueError(f"--out: folder '{parent}' does not exist")
+    writable_file("--out", out)
 
 
 def _check_bench_args(args) -> None:
@@ -136,11 +152,12 @@ def _run(args) -> int:
             print(f"{name:9s} {len(F):8d} triangles {len(P):4d} frames  {time.perf_counter() - t:8.1f} s", flush=True)
         return 0
     if args.command == "record":
+        from conecull.app.demo import rerun_command
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
+        from conecull.viz.checks import check_depth
         from conecull.viz.rerun_sink import record
 
-        if not 0 <= args.depth <= 64:
-            raise ValueError(f"--depth: expected a BVH depth in [0, 64], got {args.depth}")
+        check_depth(args.depth, "--depth")
         _check_out_file(args.out)
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
@@ -149,12 +166,14 @@ def _run(args) -> int:
                        arithmetic=args.arithmetic)
         kind = f"CCD steps ({args.arithmetic})" if args.ccd else "frames"
         print(f"wrote {args.out}: {len(stats)} {kind}, {len(F)} triangles, method {args.method}; "
-              f"open it with: rerun {args.out}")
+              f"open it with: {rerun_command(args.out)}")
         return 0
     if args.command == "view":
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
+        from conecull.viz.checks import check_host_port
         from conecull.viz.viser_app import ViewerApp, serve_forever
 
+        check_host_port(args.host, args.port, "--host", "--port")  # before loading: the server would hang on them
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method))
         return 0
@@ -169,7 +188,7 @@ def _run(args) -> int:
         col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
         col.dcd(frames[0])  # the BVH (and so node ids) come from the first frame, as in `record`
         res = col.dcd(frames[args.frame], trace=True)
-        print(explain_node(col, res, args.node))
+        print(explain_node(col, res, args.node, node_name="--node"))
         return 0
     if args.command == "bench":
         _check_bench_args(args)

@@ -3,10 +3,26 @@ frame by frame and recorded to an .rrd; prints what was culled and what collides
 
 from __future__ import annotations
 
+import os
+import shlex
+import shutil
+import sys
 import time
 
 from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
 from conecull.viz.rerun_sink import record
+
+
+def _tool(name: str) -> str:
+    """A console script of this environment by absolute path (it sits next to the interpreter),
+    so the printed command works from any folder; else whatever is on PATH."""
+    here = os.path.join(os.path.dirname(os.path.abspath(sys.executable)), name)
+    return here if os.path.exists(here) else (shutil.which(name) or name)
+
+
+def rerun_command(path: str) -> str:
+    """The command that opens a recording in the rerun viewer (shipped with rerun-sdk)."""
+    return f"{shlex.quote(_tool('rerun'))} {shlex.quote(os.path.abspath(path))}"
 
 
 def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
@@ -21,6 +37,7 @@ def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
         print(f"{k:5d} {s['cone_tests']:10d} {s['contour_passed']:7d} {s['contour_failed']:12d} "
               f"{s['elementary_tests']:10d} {s['colliding_pairs']:9d} {ms:8.2f}")
     print(f"wrote {out} in {secs:.1f} s (traced queries + recording).")
-    print(f"open it with:   .venv/bin/rerun {out}   (the viewer ships with rerun-sdk)")
-    print(f"live view:      .venv/bin/conecull view {DEFAULT_SCENE}   (prints the http://127.0.0.1 address to open)")
+    print(f"open it with:   {rerun_command(out)}   (the viewer ships with rerun-sdk)")
+    print(f"live view:      {shlex.quote(_tool('conecull'))} view {DEFAULT_SCENE}   (prints the http://127.0.0.1 address "
+          "to open)")
     return 0

@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from conecull.datasets import generated
+from conecull.datasets.checks import count, real
 from conecull.datasets.sim import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices, PlaneCollider,
                                    SelfContact, SphereCollider, StrainLimit, Stretch, Tethers, Wind,
                                    grid_skip_pairs)
@@ -16,6 +17,7 @@ from conecull.datasets.sim import (Bend, CapsuleCollider, FunnelCollider, Gravit
 
 def funnel(resolution: int):
     """A sheet falling into a funnel and folding to fit through it, with self-contact (Funnel)."""
+    resolution = count("resolution", resolution, 2)
     F, V = generated.grid_sheet(resolution, resolution, width=0.9, height=0.9)
     V = V - [0.45, 0.45, 0.0] + [0.0, 0.0, 0.85]
     return F, V, [Gravity(), Stretch(), Bend(1e-3), FunnelCollider(z_bottom=0.0, z_top=1.2), SelfContact()], {}
@@ -24,6 +26,7 @@ def funnel(resolution: int):
 def twisting(resolution: int):
     """A sheet dropped on a ball spinning about the vertical axis: friction winds it into twisted
     folds around the ball, with self-contact (Twisting)."""
+    resolution = count("resolution", resolution, 2)
     F, V = generated.grid_sheet(resolution, resolution)
     V = V - [0.5, 0.5, 0.0] + [0.0, 0.0, 0.34]
     return F, V, [Gravity(), Stretch(), Bend(1e-3), SphereCollider((0, 0, 0.0), 0.3, (0, 0, 2.5), friction=0.6),
@@ -33,6 +36,7 @@ def twisting(resolution: int):
 def flowing(resolution: int):
     """A hanging sheet pinned at its two top corners, flowing in gusty wind, with self-contact
     (FlowingCloth). Tethers (long-range attachments) keep it from sagging like rubber."""
+    resolution = count("resolution", resolution, 2)
     F, V = generated.grid_sheet(resolution, resolution)
     V = V[:, [0, 2, 1]]  # hang it vertically in the x-z plane, top row (pinned corners) at z = 1
     corners = [resolution * (resolution - 1), resolution * resolution - 1]  # the top row's ends
@@ -43,6 +47,8 @@ def flowing(resolution: int):
 def robe_sheet(resolution: int, size: float = 1.6, neck: float = 0.13, with_map: bool = False):
     """A square sheet with a round neck hole in the middle (unreferenced vertices dropped); with
     `with_map`, also the grid index -> vertex id map (-1: dropped)."""
+    resolution = count("resolution", resolution, 2)
+    size, neck = real("size", size, 0.0, low_open=True), real("neck", neck, 0.0)
     F, V = generated.grid_sheet(resolution, resolution, width=size, height=size)
     V = V - [size / 2, size / 2, 0.0]
     F = F[np.linalg.norm(V[F].mean(axis=1)[:, :2], axis=1) > neck]
@@ -56,6 +62,7 @@ def falling(resolution: int):
     """A robe-like sheet (a square with a neck hole) thrown down fast over a body proxy (capsules
     for torso, shoulders and arms, a sphere for the head, a floor), with self-contact (Falling).
     Strain limiting keeps the fine robe from stretching down to the floor under its weight."""
+    resolution = count("resolution", resolution, 2)
     F, V, remap = robe_sheet(resolution, with_map=True)
     V = V + [0.0, 0.0, 1.75]
     skip = remap[grid_skip_pairs(resolution, resolution)]

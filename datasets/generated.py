@@ -8,12 +8,17 @@ from __future__ import annotations
 
 import numpy as np
 
+from conecull.datasets.checks import count as _count, fits_in_memory, points, real, seed as _seed
 
-def _count(name: str, value, low: int) -> int:
-    """A size argument: an integer >= low, else a ValueError naming it (no silent clamping)."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ValueError(f"{name}: expected an integer >= {low}, got {value!r}")
-    return int(value)
+# Bytes per vertex of a generated mesh, with its faces (about two per vertex) and temporaries.
+_BYTES_PER_VERTEX = 24 + 2 * 24 + 48
+
+
+def _frame_count(n_frames, n_vertices: int) -> int:
+    """n_frames >= 1 whose positions (n_frames, n_vertices, 3) fit in memory."""
+    n_frames = _count("n_frames", n_frames, 1)
+    fits_in_memory("n_frames", n_frames * n_vertices * 24.0, f"{n_frames} frames of {n_vertices} vertices")
+    return n_frames
 
 
 def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
@@ -22,6 +27,8 @@ def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
     Returns faces (2 (nx-1)(ny-1), 3) int64 and positions (nx*ny, 3) float64.
     """
     nx, ny = _count("nx", nx, 2), _count("ny", ny, 2)
+    width, height = real("width", width, 0.0), real("height", height, 0.0)
+    fits_in_memory("nx, ny", nx * ny * _BYTES_PER_VERTEX, f"a {nx} x {ny} grid")
     xs = np.linspace(0.0, width, nx)
     ys = np.linspace(0.0, height, ny)
     X, Y = np.meshgrid(xs, ys)  # (ny, nx)
@@ -38,6 +45,7 @@ def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
 def sheet_for_triangles(n_triangles: int):
     """A square grid sheet with about n_triangles triangles."""
     _count("n_triangles", n_triangles, 2)
+    fits_in_memory("n_triangles", n_triangles / 2 * _BYTES_PER_VERTEX, f"a sheet of {n_triangles} triangles")
     side = max(2, int(round(np.sqrt(n_triangles / 2.0))) + 1)
     return grid_sheet(side, side)
 
@@ -48,6 +56,9 @@ def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> 
     The part x > x0 wraps around a cylinder of the given radius, then continues straight, so
     the surface stays smooth; for angle > pi it passes through the other half.
     """
+    V = points("V", V)
+    angle, x0 = real("angle", angle), real("x0", x0)
+    radius = real("radius", radius, 0.0, low_open=True)  # the bend divides by it
     W = V.copy()
     s = V[:, 0] - x0
     arc = radius * angle
@@ -65,16 +76,18 @@ def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> 
 
 def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: float = 1.15 * np.pi):
     """A sheet folding onto itself: from flat to `final_angle` (past pi it self-intersects)."""
-    _count("n_frames", n_frames, 1)
     F, V = sheet_for_triangles(n_triangles)
+    n_frames = _frame_count(n_frames, len(V))
+    final_angle = real("final_angle", final_angle)
     frames = np.stack([fold(V, final_angle * k / max(1, n_frames - 1)) for k in range(n_frames)])
     return F, frames
 
 
 def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float = 0.15):
     """A gently bending sheet (a travelling wave): never self-intersects."""
-    _count("n_frames", n_frames, 1)
     F, V = sheet_for_triangles(n_triangles)
+    n_frames = _frame_count(n_frames, len(V))
+    amplitude = real("amplitude", amplitude)
     frames = []
     for k in range(n_frames):
         phase = 2.0 * np.pi * k / max(1, n_frames)
@@ -87,6 +100,9 @@ def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float 
 def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
     """A closed, consistently oriented (outward) UV sphere."""
     n_lat, n_lon = _count("n_lat", n_lat, 2), _count("n_lon", n_lon, 3)
+    radius = real("radius", radius, 0.0)
+    # before the Python loops below, which would run for hours before running out of memory
+    fits_in_memory("n_lat, n_lon", n_lat * n_lon * 2 * _BYTES_PER_VERTEX, f"a {n_lat} x {n_lon} sphere")
     th = np.linspace(0.0, np.pi, n_lat + 1)[1:-1]
     ph = np.linspace(0.0, 2.0 * np.pi, n_lon, endpoint=False)
     T, Ph = np.meshgrid(th, ph, indexing="ij")
@@ -112,8 +128,9 @@ def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
 
 def crumpling_sphere(n_lat: int = 24, n_lon: int = 48, n_frames: int = 30, strength: float = 0.6, seed: int = 0):
     """A sphere crumpling inwards under smooth random dents until it self-intersects."""
-    _count("n_frames", n_frames, 1)
     F, V = uv_sphere(n_lat, n_lon)
+    n_frames = _frame_count(n_frames, len(V))
+    strength, seed = real("strength", strength), _seed("seed", seed)
     rng = np.random.default_rng(seed)
     centers = rng.standard_normal((12, 3))
     centers /= np.linalg.norm(centers, axis=1, keepdims=True)

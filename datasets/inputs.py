@@ -8,8 +8,11 @@ an .npz of positions (T, n, 3) given with `positions=`.
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
+
+from conecull.datasets import checks
 
 
 DEFAULT_SCENE = "fold"
@@ -33,11 +36,40 @@ def _load_mesh(path: str):
         raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
     if not hasattr(m, "faces") or len(m.faces) == 0:
         raise ValueError(f"{path}: no triangles in this file")
-    return np.asarray(m.faces, dtype=np.int64), np.asarray(m.vertices, dtype=np.float64)
+    F = np.asarray(m.faces, dtype=np.int64)
+    try:  # here, where the file is known: later the same error could not say which file it is in
+        V = checks.points("vertices", m.vertices)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
+    return F, V
+
+
+def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:
+    """The mesh's own checks (indices, repeated vertices), with the file named."""
+    import conecull
+
+    try:
+        conecull.Mesh(F, n_vertices=n_vertices)
+    except ValueError as e:
+        raise ValueError(f"{path}: {e}") from None
+
+
+def frame_order(names: list[str]) -> list[str]:
+    """File names in frame order: by their numbers, not their text (frame2 before frame10), so
+    unpadded numbering works. Names compare part by part, digit runs as numbers and the rest as
+    lower-case text; names with equal keys (frame1, frame01) keep their plain text order. Names
+    without a consistent numbering (a.ply, b2.ply, b10.ply) still get this one deterministic
+    order, which need not be the intended one."""
+    def key(name: str):
+        parts = re.split(r"(\d+)", name)  # text at even indices, digit runs at odd: comparable part by part
+        return [int(t) if i % 2 else t.lower() for i, t in enumerate(parts)], name
+
+    return sorted(names, key=key)
 
 
 def load_sequence(source: str, positions: str | None = None, resolution: int | None = None):
-    """Faces (m, 3) and frames (T, n, 3) from a scene name or path (see module doc)."""
+    """Faces (m, 3) and frames (T, n, 3) from a scene name or path (see module doc). A folder's
+    frames are its .obj/.ply files in `frame_order` (by the numbers in their names)."""
     from conecull.datasets.registry import SCENES, load
 
     if source in SCENES and not os.path.exists(source):
@@ -51,13 +83,14 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     if os.path.isdir(source):
         if positions is not None:
             raise ValueError("positions: only with a single mesh file, not with a folder of frames")
-        files = sorted(f for f in os.listdir(source) if f.lower().endswith((".obj", ".ply")))
+        files = frame_order([f for f in os.listdir(source) if f.lower().endswith((".obj", ".ply"))])
         if not files:
             raise ValueError(f"INPUT: folder '{source}' has no .obj or .ply frames")
         F0, frames = None, []
         for name in files:
             F, V = _load_mesh(os.path.join(source, name))
             if F0 is None:
+                _check_faces(os.path.join(source, name), F, len(V))
                 F0 = F
             elif F.shape != F0.shape or not np.array_equal(F, F0):
                 raise ValueError(f"INPUT: frame '{name}' has different faces than '{files[0]}' (topology must not change)")
@@ -66,39 +99,42 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
             frames.append(V)
         return F0, np.stack(frames)
     F, V = _load_mesh(source)
+    _check_faces(source, F, len(V))
     if positions is None:
         return F, V[None]
     if not os.path.exists(positions):
         raise FileNotFoundError(f"positions: '{positions}' does not exist")
     try:
         with np.load(positions) as z:
-            key = "positions" if "positions" in z.files else z.files[0]
-            raw = z[key]
+            raw = z["positions" if "positions" in z.files else z.files[0]] if z.files else None
     except Exception as e:
         raise ValueError(f"positions: cannot read '{positions}' as .npz ({e})") from None
-    if raw.dtype.kind not in "fiu":  # complex would lose its imaginary part, silently
-        raise ValueError(f"positions: expected real coordinates in '{positions}', got dtype {raw.dtype}")
-    P = np.asarray(raw, dtype=np.float64)
-    if P.ndim != 3 or P.shape[2] != 3:
-        raise ValueError(f"positions: expected an array of shape (T, n, 3), got {P.shape}")
-    if P.shape[1] != len(V):
-        raise ValueError(f"positions: frames have {P.shape[1]} vertices but '{source}' has {len(V)}")
-    return F, P
+    if raw is None:
+        raise ValueError(f"positions: '{positions}' holds no array")
+    # real (complex would lose its imaginary part, silently), (T >= 1, n, 3), finite: each
+    # message names the file, and the frame of a non-finite coordinate
+    return F, checks.frames("positions", raw, n_vertices=len(V), source=positions)
 
 
 def parse_frames(spec: str | None, n_frames: int) -> range:
-    """'A:B' (B exclusive, either side optional) or 'K' -> a range of frame indices."""
+    """'A:B' (B exclusive, either side optional) or 'K' -> a range of frame indices, each in
+    [0, n_frames): no negative (from the end) indices and no silent clamping to the input."""
     if not spec:
         return range(n_frames)
     try:
         if ":" in spec:
             a, b = spec.split(":", 1)
-            r = range(n_frames)[slice(int(a) if a else None, int(b) if b else None)]
+            start, stop = int(a) if a.strip() else 0, int(b) if b.strip() else n_frames
         else:
-            k = int(spec)
-            r = range(k, k + 1)
+            start = int(spec)
+            stop = start + 1
     except ValueError:
         raise ValueError(f"--frames: expected A:B or K, got '{spec}'") from None
-    if len(r) == 0 or r.start >= n_frames or r.start < 0:
-        raise ValueError(f"--frames: '{spec}' selects no frame of the {n_frames} available")
-    return r
+    have = f"the input has {n_frames} frame{'s' if n_frames != 1 else ''} (0..{n_frames - 1})"
+    if start < 0 or stop < 0:
+        raise ValueError(f"--frames: '{spec}': frames are counted from 0 (not from the end); {have}")
+    if start >= n_frames or start >= stop:
+        raise ValueError(f"--frames: '{spec}' selects no frame: {have}")
+    if stop > n_frames:
+        raise ValueError(f"--frames: '{spec}' goes past the last frame: {have}")
+    return range(start, stop)

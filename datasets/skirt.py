@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from conecull.datasets.checks import count, fits_in_memory
+
 # (time, flare, ruffle depth, hem twist [rad], hem lift, fold lean): rest, spin one way, swing
 # back, settle. The folds lean over sideways (tangential shift `lean * cos`); once
 # lean * folds exceeds the radius the hem's curve doubles back on itself: the folds overlap.
@@ -23,8 +25,8 @@ KEYFRAMES = ((0.00, 0.10, 0.015, 0.0, 0.00, 0.000),
 def tube_grid(n_around: int, n_along: int):
     """An open tube: n_along rings of n_around vertices (ring j starts at index j * n_around),
     faces oriented outwards when rings go downwards (-z) with angle increasing anticlockwise."""
-    if n_around < 3 or n_along < 2:
-        raise ValueError(f"n_around, n_along: need >= 3 and >= 2, got {n_around}, {n_along}")
+    n_around, n_along = count("n_around", n_around, 3), count("n_along", n_along, 2)
+    fits_in_memory("n_around, n_along", n_around * n_along * 48.0, f"a tube of {n_around} x {n_along} vertices")
     i, j = np.meshgrid(np.arange(n_around), np.arange(n_along - 1), indexing="ij")
     a = (j * n_around + i).ravel()
     b = (j * n_around + (i + 1) % n_around).ravel()
@@ -50,7 +52,10 @@ def _pose(n_around: int, n_along: int, flare, depth, twist, lift, lean, folds=28
 def skirt_sequence(resolution: int = 70, frames: int = 60):
     """faces and positions (frames, n, 3) of the skirt: resolution+1 rings of 5*resolution
     vertices, 10 resolution^2 triangles (49,000 at the default 70)."""
+    resolution, frames = count("resolution", resolution, 1), count("frames", frames, 1)
     n_around, n_along = 5 * resolution, resolution + 1
+    fits_in_memory("resolution", n_around * n_along * 200.0, f"a skirt at resolution {resolution}")
+    fits_in_memory("frames", frames * n_around * n_along * 24.0, f"{frames} frames at resolution {resolution}")
     F = tube_grid(n_around, n_along)
     keys = np.array(KEYFRAMES)
     out = []

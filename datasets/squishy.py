@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from conecull.datasets.checks import count, fits_in_memory, points, real, seed as _seed
+
 # The cube's six faces: (normal axis, sign) and the two in-face axes, ordered so that
 # (u axis) x (v axis) = sign * (normal axis): every patch cell (a, b, d) is then outward.
 _PATCHES = ((0, 1, (1, 2)), (0, -1, (2, 1)), (1, 1, (2, 0)), (1, -1, (0, 2)), (2, 1, (0, 1)), (2, -1, (1, 0)))
@@ -27,11 +29,21 @@ def _holes(n: int):
     return a, [(i, j) for i in starts for j in starts]
 
 
+def squishy_counts(n: int) -> tuple[int, int]:
+    """(triangles, vertices) of `squishy_ball(n)`, without building it: the body's cells less the
+    holes, and per tentacle its rings of 4a vertices (two triangles per quad) and a tip."""
+    n = count("n", n, 8)
+    a, rings = max(1, n // 8), max(3, n // 3)
+    return 2 * (6 * n * n - 96 * a * a) + 96 * (2 * rings * 4 * a + 4 * a), 6 * n * n + 2 + 96 * (rings * 4 * a + 1)
+
+
 def squishy_ball(n: int = 160, tentacle_length: float = 1.0, curl: float = 0.35, seed: int = 0):
     """faces (m, 3), rest positions (p, 3) and, per vertex, the tentacle it belongs to (-1: body)
     with its parameter s in [0, 1] (0 at the body). About 9 n^2 + 32 n^2 triangles (body, tentacles)."""
-    if n < 8:
-        raise ValueError(f"n: need at least 8 cells per cube side, got {n}")
+    n = count("n", n, 8)  # 8 cells per cube side: the smallest with a cell per hole and room between holes
+    tentacle_length, curl = real("tentacle_length", tentacle_length, 0.0, low_open=True), real("curl", curl)
+    seed = _seed("seed", seed)
+    fits_in_memory("n", squishy_counts(n)[1] * 200.0, f"a squishy ball with n = {n}")
     a, holes = _holes(n)
     rings = max(3, n // 3)
     rng = np.random.default_rng(seed)
@@ -78,6 +90,10 @@ def squishy_ball(n: int = 160, tentacle_length: float = 1.0, curl: float = 0.35,
         s = np.arange(1, rings + 1) / (rings + 1)
         radius = r0 * (1.0 - 0.6 * s)
         swirl = np.cross([0.0, 0.0, 1.0], axis_dir)
+        if np.linalg.norm(swirl) < 1e-9:
+            # a hole centred on the top or bottom face (n = 9, 15, ...): its axis is vertical and
+            # the swirl about z is undefined (0 / 0 made every later pose NaN); any side will do
+            swirl = np.cross([1.0, 0.0, 0.0], axis_dir)
         side = swirl / np.linalg.norm(swirl) + 0.25 * rng.standard_normal(3)
         side -= (side @ axis_dir) * axis_dir
         side /= np.linalg.norm(side)
@@ -110,6 +126,9 @@ def squishy_ball(n: int = 160, tentacle_length: float = 1.0, curl: float = 0.35,
 def squash(V: np.ndarray, height: float, squeeze: float, softness: float = 0.08) -> np.ndarray:
     """The ball (unit body, centre at the origin) with its centre at `height` above the ground
     z = 0, squeezed flat by `squeeze` in [0, 1): a smooth map of space, monotone in z."""
+    V = points("V", V)
+    height, squeeze = real("height", height), real("squeeze", squeeze, 0.0, 1.0, high_open=True)
+    softness = real("softness", softness, 0.0, low_open=True)  # the softplus divides by it
     W = V.copy()
     W[:, 2] = W[:, 2] * (1.0 - 0.35 * squeeze) + height
     r_xy = np.linalg.norm(W[:, :2], axis=1)
@@ -124,6 +143,8 @@ def squash(V: np.ndarray, height: float, squeeze: float, softness: float = 0.08)
 
 def squishy_sequence(n: int = 160, frames: int = 20, tentacle_length: float = 1.0):
     """The ball falls onto the ground (the tentacles below it touch first) and squashes."""
+    n, frames = count("n", n, 8), count("frames", frames, 1)
+    fits_in_memory("frames", frames * squishy_counts(n)[1] * 24.0, f"{frames} frames with n = {n}")
     F, V, _, _ = squishy_ball(n, tentacle_length)
     top = 1.0 + tentacle_length + 0.1  # the lowest tip starts just above the ground
     out = []

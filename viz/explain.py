@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain
+from conecull.viz.checks import check_node
 
 
 def parents(bvh: dict) -> np.ndarray:
@@ -23,12 +24,59 @@ def path_to_root(bvh: dict, node: int) -> list[int]:
     return out
 
 
-def explain_node(col, res, node: int) -> str:
-    """A few lines: where the node is, what was tested there, and the verdict in words."""
-    bvh = col.bvh_arrays()
+def check_result(col, res) -> None:
+    """res must be a traced query of col itself: node ids mean nothing in another collider's BVH.
+    A result does not carry its collider, so this compares what the trace shows of it: the
+    method, the BVH's depth (the trace has one level entry per depth) and that every node, face,
+    vertex, edge and contour edge it names exists in col. A result of another mesh with the same
+    method, BVH depth and enough of everything passes unnoticed."""
+    import conecull
+
+    if not isinstance(col, conecull.SelfCollider):
+        raise ValueError(f"col: expected a conecull.SelfCollider, got {type(col).__name__}")
+    if not isinstance(res, (conecull.DcdResult, conecull.CcdResult)):
+        raise ValueError(f"res: expected the result of a query of col (col.dcd(V, trace=True)), "
+                         f"got {type(res).__name__}")
+    if not len(col.bvh_arrays()["depth"]):
+        raise ValueError("col: has no BVH yet (it is built by the first query): run col.dcd(V) first")
+    if res.trace is None:
+        raise ValueError("res: the query was not traced; run it with trace=True (col.dcd(V, trace=True))")
+    method = res.stats.get("method")
+    if method != col.method:
+        raise ValueError(f"res: comes from a query with method {method!r}, but col uses {col.method!r}; "
+                         "pass the result of col's own query")
+    bvh, tr, mesh = col.bvh_arrays(), res.trace, col.mesh
+    depth = int(bvh["depth"].max()) + 1 if len(bvh["depth"]) else 0
+    ct = col.contour_arrays()
+    loop_len = np.diff(ct["offsets"])
+    problems = []
+    if len(tr.level["pairs"]) != depth:
+        problems.append(f"its trace covers a BVH of depth {len(tr.level['pairs']) - 1}, col's has depth {depth - 1}")
     n_nodes = len(bvh["depth"])
-    if not 0 <= node < n_nodes:
-        raise ValueError(f"--node: {node} is out of range: the BVH has nodes 0..{n_nodes - 1}")
+    for kind in ("cone", "contour"):
+        nodes = getattr(tr, kind)["node"]
+        if len(nodes) and nodes.max() >= n_nodes:
+            problems.append(f"its trace names node {int(nodes.max())}, col's BVH has nodes 0..{n_nodes - 1}")
+    c = tr.contour
+    if not problems and len(c["node"]) and (c["edge"] >= loop_len[c["node"]]).any():
+        problems.append("its trace names contour edges col's contours do not have")
+    for kind, limits, what in (("elementary", (mesh.n_faces, mesh.n_faces), "triangle"),
+                               ("vf", (mesh.n_vertices, mesh.n_faces), "vertex or face"),
+                               ("ee", (len(mesh.edges),) * 2, "edge")):
+        pairs = getattr(tr, kind)["pair"] if hasattr(tr, kind) else np.zeros((0, 2))
+        if len(pairs) and (pairs.max(axis=0) >= limits).any():
+            problems.append(f"its trace names a {what} col's mesh does not have")
+    if problems:
+        raise ValueError(f"res: comes from another collider ({problems[0]}); pass the result of a query of col itself")
+
+
+def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
+    """A few lines: where the node is, what was tested there, and the verdict in words.
+    res: a traced query (trace=True) of col itself; node: a node id of col's BVH (node_name is
+    what errors call it: the CLI passes "--node")."""
+    check_result(col, res)
+    bvh = col.bvh_arrays()
+    node = check_node(node, len(bvh["depth"]), node_name)
     tr = res.trace
     nt = int(bvh["end"][node] - bvh["begin"][node])
     path = path_to_root(bvh, node)

@@ -18,12 +18,17 @@ For CCD recordings frame k shows the step from frame k to frame k + 1.
 
 from __future__ import annotations
 
+import contextlib
+import os
+
 import numpy as np
 import rerun as rr
 import rerun.blueprint as rrb
 
+from conecull.datasets import checks
 from conecull.trace import REASONS
 from conecull.viz import layers as L
+from conecull.viz.checks import check_arithmetic, check_depth, check_flag, check_frame_range, check_method
 
 MAX_LOG_LINES = 300  # per frame; the count of the rest is logged
 
@@ -128,31 +133,63 @@ class RerunRecorder:
 def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, recording_id: str | None = None,
            bvh_depth: int = 4, progress=None, ccd: bool = False, arithmetic: str = "exact") -> list:
     """Record a sequence; returns the per-frame stats. The BVH is built from frames[0].
-    With ccd=True, frame k shows the CCD step from frame k to k + 1 (the last frame has no step)."""
+    frames: (T, n, 3) positions (array-like); frame_range: indices in [0, T) (default all).
+    With ccd=True, frame k shows the CCD step from frame k to k + 1 (the last frame has no step).
+    Every argument is checked before any work, each error naming it."""
     import conecull
 
-    mesh = conecull.Mesh(faces, n_vertices=frames.shape[1])
-    col = conecull.SelfCollider(mesh, method=method)
-    col.dcd(frames[0])  # node ids depend only on the first pose: stable across commands
-    frame_range = range(len(frames)) if frame_range is None else frame_range
+    ccd = check_flag(ccd, "ccd")
+    method = check_method(method, ccd)
+    arithmetic = check_arithmetic(arithmetic)  # even without ccd: a typo is a typo
+    bvh_depth = check_depth(bvh_depth)
+    if progress is not None and not callable(progress):
+        raise ValueError(f"progress: expected None or a function (done, total), got {progress!r}")
+    if recording_id is not None and not isinstance(recording_id, str):
+        raise ValueError(f"recording_id: expected None or a string, got {recording_id!r}")
+    frames = checks.frames("frames", frames)
+    frame_range = check_frame_range(frame_range, len(frames))
+    try:
+        mesh = conecull.Mesh(faces, n_vertices=frames.shape[1])
+    except ValueError as e:
+        if not str(e).startswith("n_vertices:"):  # n_vertices is ours, from the frames
+            raise
+        raise ValueError(f"frames: {frames.shape[1]} vertices per frame, but faces use vertex "
+                         f"{int(np.max(faces))}") from None
     if ccd:
         frame_range = [k for k in frame_range if k + 1 < len(frames)]
         if not frame_range:
-            raise ValueError("--frames: CCD needs at least two frames (a step from frame k to k + 1)")
+            raise ValueError(f"frame_range: CCD records the step from each frame k to k + 1, and no frame selected "
+                             f"has a next one (the input has frames 0..{len(frames) - 1})")
+    checks.writable_file("path", path)  # rerun would say so only after the first query
+    col = conecull.SelfCollider(mesh, method=method)
+    _query(col.dcd, "frame 0", frames[0])  # node ids depend only on the first pose: stable across commands
     rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth,
                         front=method.endswith("+front"))
     out = []
     try:
         for i, k in enumerate(frame_range):
             if ccd:
-                res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic, trace=True, toi=True)
+                res = _query(col.ccd, f"step {k} -> {k + 1}", frames[k], frames[k + 1], arithmetic=arithmetic,
+                             trace=True, toi=True)
                 rec.log_frame(k, col, frames[k + 1], res)
             else:
-                res = col.dcd(frames[k], trace=True)
+                res = _query(col.dcd, f"frame {k}", frames[k], trace=True)
                 rec.log_frame(k, col, frames[k], res)
             out.append(res.stats)
             if progress:
                 progress(i + 1, len(frame_range))
-    finally:
+    except BaseException:
         rec.close()
+        with contextlib.suppress(OSError):  # a recording cut short at a bad frame would pass for the whole run
+            os.remove(path)
+        raise
+    rec.close()
     return out
+
+
+def _query(run, where: str, *args, **kwargs):
+    """A query; the core's complaint about the positions (V, V0, V1) also says which frame."""
+    try:
+        return run(*args, **kwargs)
+    except ValueError as e:
+        raise ValueError(f"frames: {where}: {e}") from None

@@ -17,7 +17,9 @@ import trimesh
 import viser
 
 import conecull
+from conecull.datasets import checks
 from conecull.viz import layers as L
+from conecull.viz.checks import check_host_port, check_method, url_host
 from conecull.viz.explain import explain_node
 
 HIGHLIGHT = (30, 90, 255)
@@ -70,9 +72,13 @@ def strip_segments(strips) -> np.ndarray:
 
 class ViewerApp:
     def __init__(self, faces, frames, *, host: str = "127.0.0.1", port: int = 8080, method: str = "nc"):
-        self.faces = np.asarray(faces, np.int64)
-        self.frames = np.asarray(frames, np.float64)
-        mesh = conecull.Mesh(self.faces, n_vertices=self.frames.shape[1])
+        """faces (m, 3), frames (T, n, 3); host and port to serve on (port 0: any free one)."""
+        check_method(method)
+        self.frames = checks.frames("frames", frames)
+        mesh = conecull.Mesh(faces, n_vertices=self.frames.shape[1])
+        self.faces = mesh.faces.astype(np.int64)
+        check_host_port(host, port)  # before the work below: viser hangs on what it cannot bind
+        self.host = host
         self.colliders = {}
         for m in conecull.METHODS:
             col = conecull.SelfCollider(mesh, method=m)
@@ -174,8 +180,9 @@ class ViewerApp:
 
     def select_face(self, face: int):
         """Programmatic click (tests, scripts)."""
+        face = checks.count("face", face, 0, len(self.faces) - 1)
         with self._lock:
-            self.selected_face = int(face)
+            self.selected_face = face
             self._draw_selection()
 
     def _draw_selection(self):
@@ -208,7 +215,8 @@ class ViewerApp:
 
 
 def serve_forever(app: ViewerApp) -> None:  # pragma: no cover - interactive
-    print(f"conecull view: open http://127.0.0.1:{app.port} (Ctrl+C to stop)", flush=True)
+    where = f", listening on all interfaces ({app.host})" if app.host in ("0.0.0.0", "::") else ""
+    print(f"conecull view: open http://{url_host(app.host)}:{app.port} (Ctrl+C to stop{where})", flush=True)
     try:
         while True:
             time.sleep(1.0)

@@ -1,5 +1,7 @@
 """The CLI: record, explain, and its errors (run in-process through main())."""
 
+import os
+
 import numpy as np
 import pytest
 import trimesh
@@ -125,3 +127,76 @@ def test_bench_from_json_names_a_bad_file(tmp_path, capsys):
     bad.write_text("not json")
     assert main(["bench", "all", "--from-json", str(bad), "--out", str(tmp_path / "o")]) == 2
     assert f"--from-json: '{bad}' is not a JSON file" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["view", "fold", "--port", "70000"], r"--port: expected a TCP port in [0, 65535]"),
+    (["view", "fold", "--port", "-1"], r"--port: expected a TCP port in [0, 65535]"),
+    (["view", "fold", "--host", "192.0.2.1"], "--host: cannot listen on '192.0.2.1'"),
+    (["record", "fold", "--frames", "0:1000"], "--frames: '0:1000' goes past the last frame: the input has 30 frames"),
+    (["record", "fold", "--frames=-3:"], "--frames: '-3:': frames are counted from 0"),
+    (["record", "fold", "--ccd", "--method", "sct"], "--method: 'sct' is a discrete (DCD) method"),
+    (["record", "fold", "--resolution", "1"], "--resolution: expected an integer >= 3"),
+    (["record", "fold", "--out", "/proc/conecull-test.rrd"], "--out: cannot write '/proc/conecull-test.rrd'"),
+])
+def test_cli_errors_name_the_option(argv, msg, capsys):
+    """Exit code 2 and the option named, before any work (no hang, no traceback)."""
+    if "/proc" in " ".join(argv) and not os.path.isdir("/proc"):
+        pytest.skip("no /proc")
+    assert main(argv) == 2
+    assert msg in capsys.readouterr().err
+
+
+def test_cli_names_the_positions_file_and_frame(tmp_path, capsys):
+    F, frames = folding_sheet(50, 5)
+    trimesh.Trimesh(frames[0], F, process=False).export(tmp_path / "m.obj")
+    out = str(tmp_path / "r.rrd")
+    np.savez(tmp_path / "empty.npz", positions=frames[:0])
+    assert main(["record", str(tmp_path / "m.obj"), "--positions", str(tmp_path / "empty.npz"), "--out", out]) == 2
+    assert "--positions: no frames in" in capsys.readouterr().err
+    bad = frames.copy()
+    bad[3, 5, 1] = np.nan
+    np.savez(tmp_path / "nan.npz", positions=bad)
+    assert main(["record", str(tmp_path / "m.obj"), "--positions", str(tmp_path / "nan.npz"), "--out", out]) == 2
+    assert (f"--positions: frame 3 has a non-finite coordinate nan at row 5, column 1 in '{tmp_path / 'nan.npz'}'"
+            in capsys.readouterr().err)
+    (tmp_path / "rep.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n")
+    assert main(["record", str(tmp_path / "rep.obj"), "--out", out]) == 2
+    assert "rep.obj: faces: row 0 repeats a vertex" in capsys.readouterr().err
+
+
+def test_record_unpadded_folder_in_numeric_order(tmp_path, capsys):
+    """frame0 .. frame11 are recorded in that order (not frame0, frame1, frame10, ...)."""
+    from rrd_helpers import rows_by_frame
+
+    F, frames = folding_sheet(50, 12)
+    d = tmp_path / "frames"
+    d.mkdir()
+    for k, V in enumerate(frames):
+        trimesh.Trimesh(V, F, process=False).export(d / f"frame{k}.ply")
+    out = str(tmp_path / "r.rrd")
+    assert main(["record", str(d), "--out", out]) == 0
+    mesh = rows_by_frame(out, "/scene/mesh", "Mesh3D:vertex_positions")
+    for k in (2, 10):
+        assert np.allclose(np.array(mesh[k]).reshape(-1, 3), frames[k][F].reshape(-1, 3))
+
+
+def test_help_states_defaults(capsys):
+    for command, wanted in (("record", ["(default: the scene fold)", "culling method (default nc"]),
+                            ("view", ["(default: the scene fold)", "(default 8080", "(default nc)"]),
+                            ("demo", ["culling method (default nc)"]),
+                            ("explain", ["the frame to query", "the BVH node id", "culling method (default nc)"]),
+                            ("bench", ["(default 64000)"])):
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        text = " ".join(capsys.readouterr().out.split())  # argparse wraps lines
+        for w in wanted:
+            assert w in text, (command, w)
+
+
+def test_demo_prints_commands_that_work_anywhere(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["demo", "--out", "d.rrd"]) == 0
+    line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("open it with:")][0]
+    exe, path = line.split()[3:5]
+    assert os.path.isabs(exe) and os.path.basename(exe) == "rerun" and path == str(tmp_path / "d.rrd")

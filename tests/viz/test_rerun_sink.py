@@ -1,5 +1,7 @@
 """Record a generated scene headless, read the .rrd back and check it against the core."""
 
+import os
+
 import numpy as np
 import pyarrow as pa
 import pytest
@@ -92,3 +94,54 @@ def test_front_drawn_on_the_mesh(tmp_path):
     plain = str(tmp_path / "plain.rrd")
     record(plain, F, frames[:2], method="nc", recording_id="test-no-front")
     assert rows_by_frame(plain, "/front/mesh", "Mesh3D:vertex_colors") == {}
+
+
+@pytest.fixture(scope="module")
+def small():
+    from conecull.datasets.generated import folding_sheet
+
+    return folding_sheet(50, 6)
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    ({"frames": lambda P: P[0]}, r"frames: expected a sequence of frames of shape \(T, n, 3\), got one pose"),
+    ({"frames": lambda P: P[:0]}, r"frames: no frames \(shape \(0, "),
+    ({"frames": lambda P: P[:, :5]}, "frames: 5 vertices per frame, but faces use vertex"),
+    ({"frames": lambda P: np.where(np.arange(P.size).reshape(P.shape) == P[0].size * 3 + 16, np.nan, P)},
+     "frames: frame 3 has a non-finite coordinate nan at row 5, column 1"),
+    ({"frames": lambda P: np.concatenate([P[:2], P[2:] * 1e300])}, "frames: frame 2: V: coordinate"),
+    ({"frame_range": range(0, 10)}, r"frame_range: range\(0, 10\) reaches frame 9, out of range: the input has "
+                                    r"frames 0\.\.5"),
+    ({"frame_range": [-1]}, "frame_range: frame -1 is out of range"),
+    ({"frame_range": [2, 6]}, "frame_range: frame 6 is out of range"),
+    ({"frame_range": [1.0]}, "frame_range: expected integer frame indices, got 1.0"),
+    ({"frame_range": []}, "frame_range: selects no frame"),
+    ({"bvh_depth": "a"}, r"bvh_depth: expected a BVH depth in \[0, 64\], got 'a'"),
+    ({"bvh_depth": -1}, r"bvh_depth: expected a BVH depth in \[0, 64\], got -1"),
+    ({"bvh_depth": 1000}, r"bvh_depth: expected a BVH depth in \[0, 64\], got 1000"),
+    ({"arithmetic": "xx"}, "arithmetic: expected one of float, conservative, exact, got 'xx'"),
+    ({"method": "xx"}, "method: expected one of"),
+    ({"method": "sct", "ccd": True}, "method: 'sct' is a discrete"),
+    ({"path": "/proc/conecull-test.rrd"}, "path: cannot write '/proc/conecull-test.rrd'"),
+    ({"progress": 5}, "progress: expected None or a function"),
+])
+def test_record_names_bad_arguments(small, tmp_path, kwargs, match):
+    """Each bad argument is refused up front with its name: no IndexError or AttributeError
+    from deep inside, no silently ignored option, no file written."""
+    F, P = small
+    kwargs = dict(kwargs)
+    if callable(kwargs.get("frames")):
+        kwargs["frames"] = kwargs["frames"](P)
+    frames = kwargs.pop("frames", P)
+    path = kwargs.pop("path", str(tmp_path / "r.rrd"))
+    if path.startswith("/proc") and not os.path.isdir("/proc"):
+        pytest.skip("no /proc")
+    with pytest.raises(ValueError, match=match):
+        record(path, F, frames, **kwargs)
+    assert not (tmp_path / "r.rrd").exists()
+
+
+def test_record_takes_nested_lists(small, tmp_path):
+    F, P = small
+    stats = record(str(tmp_path / "r.rrd"), F.tolist(), P.tolist(), frame_range=[0, 5])
+    assert len(stats) == 2

@@ -26,3 +26,43 @@ def test_viewer_colours_by_front_load():
         assert np.array_equal(app.face_colors, L.compute(app.col, app.faces, app.V, app.res).face_colors)
     finally:
         app.close()
+
+
+def test_viewer_refuses_bad_arguments_before_serving():
+    """A bad method, port or host is a ValueError naming it, raised before any server starts:
+    viser's server thread would die (port > 65535) or retry for ever (an address not of this
+    machine) while the caller waits."""
+    import pytest
+
+    from conecull.datasets.generated import folding_sheet
+    from conecull.viz.viser_app import ViewerApp
+
+    F, P = folding_sheet(50, 2)
+    for kwargs, match in (({"method": "xx"}, "method: expected one of aabb, nc"),
+                          ({"port": 70000}, r"port: expected a TCP port in \[0, 65535\]"),
+                          ({"port": -1}, r"port: expected a TCP port in \[0, 65535\]"),
+                          ({"port": "80"}, r"port: expected a TCP port"),
+                          ({"host": "192.0.2.1"}, "host: cannot listen on '192.0.2.1'"),  # TEST-NET: never ours
+                          ({"host": ""}, "host: expected a host name or IP address")):
+        with pytest.raises(ValueError, match=match):
+            ViewerApp(F, P, **{"port": free_port(), **kwargs})
+    with pytest.raises(ValueError, match="frames: expected a sequence of frames"):
+        ViewerApp(F, P[0], port=free_port())
+
+
+def test_printed_address_is_the_served_host(capsys, monkeypatch):
+    from conecull.viz import viser_app
+
+    class App:
+        host, port = "127.0.0.2", 1234
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(viser_app.time, "sleep", lambda _: (_ for _ in ()).throw(KeyboardInterrupt))
+    viser_app.serve_forever(App())
+    assert "open http://127.0.0.2:1234 " in capsys.readouterr().out
+    App.host = "0.0.0.0"
+    viser_app.serve_forever(App())
+    out = capsys.readouterr().out
+    assert "open http://127.0.0.1:1234 (Ctrl+C to stop, listening on all interfaces (0.0.0.0))" in out

@@ -1,0 +1,132 @@
+"""Argument checks shared by the generators, the scene registry, the file loaders and the viewers.
+
+Each check names the argument it was given and says what is wrong, as a ValueError (a TypeError
+would name only Python's view of the problem); each returns the value in the form callers use.
+"""
+
+from __future__ import annotations
+
+import numbers
+import os
+
+import numpy as np
+
+
+def count(name: str, value, low: int, high: int | None = None) -> int:
+    """An integer in [low, high] (bool is not a count); no silent clamping."""
+    ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, np.integer))
+    if ok and value >= low and (high is None or value <= high):
+        return int(value)
+    want = f"an integer >= {low}" if high is None else f"an integer in [{low}, {high}]"
+    raise ValueError(f"{name}: expected {want}, got {value!r}")
+
+
+def real(name: str, value, low: float | None = None, high: float | None = None, *, low_open: bool = False,
+         high_open: bool = False) -> float:
+    """A finite real number within the bounds given (open or closed); NaN and inf never pass."""
+    ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, numbers.Real) and np.isfinite(value)
+    if ok:
+        v = float(value)
+        ok = ((low is None or (v > low if low_open else v >= low)) and
+              (high is None or (v < high if high_open else v <= high)))
+        if ok:
+            return v
+    bounds = []
+    if low is not None:
+        bounds.append(f"{'>' if low_open else '>='} {low:g}")
+    if high is not None:
+        bounds.append(f"{'<' if high_open else '<='} {high:g}")
+    raise ValueError(f"{name}: expected a finite number{' ' + ' and '.join(bounds) if bounds else ''}, got {value!r}")
+
+
+def seed(name: str, value) -> int:
+    """A random seed: a non-negative integer (what np.random.default_rng takes)."""
+    return count(name, value, 0)
+
+
+def memory_bytes() -> int:
+    """This machine's physical memory (a bound no request may exceed), or 2^40 if unknown."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, OSError, ValueError):
+        return 1 << 40
+
+
+def fits_in_memory(name: str, n_bytes: float, what: str) -> None:
+    """Refuse, before allocating, a size this machine cannot hold: NumPy would raise its own
+    MemoryError at best, and at worst the machine swaps or a Python loop runs for hours."""
+    mem = memory_bytes()
+    if n_bytes > mem:
+        raise ValueError(f"{name}: {what} would need about {n_bytes / 2**30:.3g} GiB, more than this machine's "
+                         f"{mem / 2**30:.3g} GiB of memory")
+
+
+def writable_file(name: str, path, example: str = "run.rrd") -> str:
+    """A file path that can be written: checked before the work whose result goes there."""
+    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
+        raise ValueError(f"{name}: expected a file path, got {path!r}")
+    path = os.fspath(path)
+    if os.path.isdir(path):
+        raise ValueError(f"{name}: '{path}' is a directory; give a file name such as {os.path.join(path, example)}")
+    parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
+        raise ValueError(f"{name}: folder '{parent}' does not exist")
+    existed = os.path.exists(path)
+    try:  # really open it: permissions, read-only or special file systems (/proc) all show here
+        with open(path, "ab"):
+            pass
+    except OSError as e:
+        raise ValueError(f"{name}: cannot write '{path}' ({e.strerror or e})") from None
+    if not existed:
+        os.remove(path)
+    return path
+
+
+def _real_array(name: str, value) -> np.ndarray:
+    if isinstance(value, (str, bytes)) or value is None:
+        raise ValueError(f"{name}: expected an array of coordinates, got {type(value).__name__}")
+    try:
+        a = np.asarray(value)
+    except (ValueError, TypeError) as e:  # ragged nested lists
+        raise ValueError(f"{name}: not a rectangular array ({e})") from None
+    if a.dtype.kind not in "fiu":  # complex would lose its imaginary part, objects and strings are no coordinates
+        raise ValueError(f"{name}: expected real coordinates, got dtype {a.dtype}")
+    return a.astype(np.float64)
+
+
+def _first_non_finite(a: np.ndarray) -> str:
+    idx = tuple(int(i) for i in np.argwhere(~np.isfinite(a))[0])
+    where = f"row {idx[-2]}, column {idx[-1]}"
+    return f"non-finite coordinate {a[idx]} at {where}" if a.ndim == 2 else \
+        f"frame {idx[0]} has a non-finite coordinate {a[idx]} at {where}"
+
+
+def points(name: str, value) -> np.ndarray:
+    """Positions (n, 3), real and finite, as float64."""
+    a = _real_array(name, value)
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"{name}: expected an array of shape (n, 3), got {a.shape}")
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name}: {_first_non_finite(a)}")
+    return a
+
+
+def frames(name: str, value, n_vertices: int | None = None, source: str | None = None) -> np.ndarray:
+    """A sequence of poses (T, n, 3) with T >= 1 and n >= 1, real and finite, as float64.
+    `source` (a file) is named in the messages too; `n_vertices`, if given, is the mesh's."""
+    of = f" in '{source}'" if source else ""
+    a = _real_array(name, value)
+    if a.ndim == 2 and a.shape[-1:] == (3,):
+        raise ValueError(f"{name}: expected a sequence of frames of shape (T, n, 3){of}, got one pose of shape "
+                         f"{a.shape}; pass it as [V] (or V[None]) for a one-frame sequence")
+    if a.ndim != 3 or a.shape[2] != 3:
+        raise ValueError(f"{name}: expected an array of shape (T, n, 3){of}, got {a.shape}")
+    if a.shape[0] == 0:
+        raise ValueError(f"{name}: no frames{of} (shape {a.shape}); need at least one")
+    if n_vertices is not None and a.shape[1] != n_vertices:
+        raise ValueError(f"{name}: frames have {a.shape[1]} vertices{of} but the mesh has {n_vertices}")
+    if a.shape[1] == 0:
+        raise ValueError(f"{name}: frames have no vertices{of} (shape {a.shape})")
+    if not np.isfinite(a).all():
+        raise ValueError(f"{name}: {_first_non_finite(a)}{of}")
+    return a

@@ -1,0 +1,175 @@
+"""Bad input to the datasets gets a ValueError naming the argument, never a crash, a hang or a
+silently wrong answer: frame order of folders, non-finite scenes, sizes, generator arguments,
+position files."""
+
+import numpy as np
+import pytest
+import trimesh
+
+from conecull import datasets
+from conecull.datasets import generated, skirt, squishy
+from conecull.datasets.inputs import load_sequence, parse_frames
+
+
+@pytest.fixture(autouse=True)
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("CONECULL_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+TRI = np.array([[0, 1, 2]])
+
+
+def test_unpadded_frame_files_load_in_numeric_order(tmp_path):
+    d = tmp_path / "frames"
+    d.mkdir()
+    frames = [np.array([[0, 0, k], [1, 0, k], [0, 1, k]], float) for k in range(12)]
+    for k, V in enumerate(frames):  # frame0 .. frame11: text order would be 0, 1, 10, 11, 2, ...
+        trimesh.Trimesh(V, TRI, process=False).export(d / f"frame{k}.ply")
+    _, P = load_sequence(str(d))
+    assert P[:, 0, 2].tolist() == list(range(12))
+
+
+def test_frame_order_is_numeric_and_deterministic():
+    from conecull.datasets.inputs import frame_order
+
+    assert frame_order(["f10.ply", "f2.ply", "f1.ply"]) == ["f1.ply", "f2.ply", "f10.ply"]
+    names = ["b10.obj", "a.ply", "f01.ply", "f1.ply", "B2.obj"]
+    assert frame_order(names) == frame_order(names[::-1]) == ["a.ply", "B2.obj", "b10.obj", "f01.ply", "f1.ply"]
+
+
+@pytest.mark.parametrize("resolution", [9, 15])
+def test_squishy_is_finite_at_every_resolution(resolution):
+    """A tentacle centred on the top face (n = 9, 15) had an undefined swirl direction: NaN."""
+    F, P = datasets.load("squishy", resolution=resolution, frames=2)
+    assert np.isfinite(P).all() and P.shape == (2, squishy.squishy_counts(resolution)[1], 3)
+    assert len(F) == datasets.SCENES["squishy"].triangles(resolution)
+
+
+def test_load_refuses_and_never_caches_non_finite_positions(cache, monkeypatch):
+    scene = datasets.SCENES["bend"]
+
+    def nan_scene(res, frames, dt):
+        F, P = scene.generate(res, frames, dt)
+        P[1, 3, 2] = np.nan
+        return F, P
+
+    monkeypatch.setitem(datasets.SCENES, "bend", type(scene)(**{**scene.__dict__, "generate": nan_scene}))
+    with pytest.raises(ValueError, match=r"scene 'bend' at resolution 5: generated a non-finite position \(frame 1, "
+                                         r"vertex 3"):
+        datasets.load("bend", resolution=5, frames=2)
+    assert not list(cache.glob("bend-*"))
+
+
+@pytest.mark.parametrize("kwargs,match", [
+    ({"name": "fold", "resolution": 3, "frames": 10**12}, "frames: 1000000000000 frames of scene 'fold' at "
+                                                          "resolution 3 would need about"),
+    ({"name": "fold", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'fold'"),
+    ({"name": "squishy", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'squishy'"),
+    ({"name": "falling", "resolution": 10**7, "frames": 1}, "resolution: 10000000 does not suit scene 'falling'"),
+])
+def test_load_refuses_sizes_beyond_memory_up_front(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        datasets.load(**kwargs)
+
+
+@pytest.mark.parametrize("call,match", [
+    (lambda: generated.folding_sheet(100, 3, final_angle="x"), "final_angle: expected a finite number, got 'x'"),
+    (lambda: generated.folding_sheet(final_angle=np.nan), "final_angle: expected a finite number, got nan"),
+    (lambda: generated.folding_sheet(10**13), "n_triangles: a sheet of 10000000000000 triangles would need about"),
+    (lambda: generated.folding_sheet(100, 10**12), "n_frames: 1000000000000 frames of"),
+    (lambda: generated.bending_sheet(100, 3, amplitude=np.inf), "amplitude: expected a finite number, got inf"),
+    (lambda: generated.crumpling_sphere(seed="a"), "seed: expected an integer >= 0, got 'a'"),
+    (lambda: generated.crumpling_sphere(strength=None), "strength: expected a finite number, got None"),
+    (lambda: generated.uv_sphere(radius=-1), "radius: expected a finite number >= 0, got -1"),
+    (lambda: generated.uv_sphere(10**5, 10**5), "n_lat, n_lon: a 100000 x 100000 sphere would need about"),
+    (lambda: generated.grid_sheet(3, 3, width="1"), "width: expected a finite number >= 0, got '1'"),
+    (lambda: generated.fold(np.zeros((4, 2)), 1.0), r"V: expected an array of shape \(n, 3\), got \(4, 2\)"),
+    (lambda: generated.fold([[0, 0, np.nan]], 1.0), "V: non-finite coordinate nan at row 0, column 2"),
+    (lambda: generated.fold(np.zeros((4, 3)), 1.0, radius=0), "radius: expected a finite number > 0, got 0"),
+    (lambda: skirt.skirt_sequence(10, 0), "frames: expected an integer >= 1, got 0"),
+    (lambda: skirt.skirt_sequence(2.5, 3), "resolution: expected an integer >= 1, got 2.5"),
+    (lambda: skirt.tube_grid(2, 5), "n_around: expected an integer >= 3, got 2"),
+    (lambda: squishy.squishy_sequence(8.0, 2), "n: expected an integer >= 8, got 8.0"),
+    (lambda: squishy.squishy_sequence(8, 0), "frames: expected an integer >= 1, got 0"),
+    (lambda: squishy.squishy_ball(8, tentacle_length=0), "tentacle_length: expected a finite number > 0, got 0"),
+    (lambda: squishy.squash(np.zeros((3, 3)), 1.0, 1.0), "squeeze: expected a finite number >= 0 and < 1, got 1.0"),
+])
+def test_generators_name_bad_arguments(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_fold_takes_array_likes():
+    W = generated.fold([[0.0, 0, 0], [1.0, 0, 0]], np.pi, x0=0.5, radius=0.1)
+    assert W.shape == (2, 3) and W[1, 0] < 0.5  # the far point came back over the fold line
+
+
+@pytest.fixture
+def mesh_file(tmp_path):
+    path = tmp_path / "m.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    return str(path)
+
+
+@pytest.mark.parametrize("P,match", [
+    (np.zeros((0, 3, 3)), r"positions: no frames in '.*p\.npz' \(shape \(0, 3, 3\)\)"),
+    (np.zeros((4, 3, 2)), r"positions: expected an array of shape \(T, n, 3\) in '.*p\.npz', got \(4, 3, 2\)"),
+    (np.zeros((4, 5, 3)), r"positions: frames have 5 vertices in '.*p\.npz' but the mesh has 3"),
+    (np.where(np.arange(36).reshape(4, 3, 3) == 31, np.nan, 0.0),
+     r"positions: frame 3 has a non-finite coordinate nan at row 1, column 1 in '.*p\.npz'"),
+])
+def test_bad_position_files_are_named(tmp_path, mesh_file, P, match):
+    np.savez(tmp_path / "p.npz", positions=P)
+    with pytest.raises(ValueError, match=match):
+        load_sequence(mesh_file, positions=str(tmp_path / "p.npz"))
+
+
+def test_an_npz_without_arrays(tmp_path, mesh_file):
+    np.savez(tmp_path / "p.npz")
+    with pytest.raises(ValueError, match="positions: '.*p.npz' holds no array"):
+        load_sequence(mesh_file, positions=str(tmp_path / "p.npz"))
+
+
+@pytest.mark.parametrize("text,match", [
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n", r"bad\.obj: faces: row 0 repeats a vertex"),
+    ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", r"bad\.obj: vertices: non-finite coordinate nan at row 0, column 2"),
+])
+def test_bad_mesh_files_are_named(tmp_path, text, match):
+    (tmp_path / "bad.obj").write_text(text)
+    with pytest.raises(ValueError, match=match):
+        load_sequence(str(tmp_path / "bad.obj"))
+    d = tmp_path / "frames"  # the same in a folder of frames
+    d.mkdir()
+    (d / "bad.obj").write_text(text)
+    with pytest.raises(ValueError, match=match):
+        load_sequence(str(d))
+
+
+@pytest.mark.parametrize("spec,match", [
+    ("0:1000", "--frames: '0:1000' goes past the last frame: the input has 30 frames"),
+    ("29:31", "--frames: '29:31' goes past the last frame"),
+    ("-5:", r"--frames: '-5:': frames are counted from 0"),
+    ("3:-1", r"--frames: '3:-1': frames are counted from 0"),
+    ("-1", r"--frames: '-1': frames are counted from 0"),
+    ("5:5", "--frames: '5:5' selects no frame"),
+    ("30", "--frames: '30' selects no frame"),
+])
+def test_frame_specs_are_never_clamped(spec, match):
+    with pytest.raises(ValueError, match=match):
+        parse_frames(spec, 30)
+
+
+def test_frame_specs():
+    assert parse_frames("2:5", 30) == range(2, 5) and parse_frames("27:", 30) == range(27, 30)
+    assert parse_frames(":3", 30) == range(0, 3) and parse_frames("29", 30) == range(29, 30)
+    assert parse_frames(None, 30) == range(30)
+
+
+def test_scene_listing_columns_line_up():
+    lines = datasets.describe()
+    for word in (" triangles", " frames"):
+        assert len({line.index(word) for line in lines}) == 1, word
+    # the description (last column) starts at the same place on every line
+    starts = {line.index(s.description) for line, s in zip(lines, datasets.SCENES.values())}
+    assert len(starts) == 1

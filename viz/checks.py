@@ -1,0 +1,111 @@
+"""Checks of the viewers' options, shared by the Python API (`record`, `ViewerApp`,
+`explain_node`) and the CLI. Each takes the name to report: the Python argument by default,
+the CLI passes its option (`--depth`, `--node`, ...). Errors are ValueErrors naming it."""
+
+from __future__ import annotations
+
+import socket
+
+import numpy as np
+
+MAX_DEPTH = 64
+
+
+def _is_int(value) -> bool:
+    return not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, np.integer))
+
+
+def check_depth(value, name: str = "bvh_depth") -> int:
+    """The BVH depth whose boxes are drawn."""
+    if not _is_int(value) or not 0 <= value <= MAX_DEPTH:
+        raise ValueError(f"{name}: expected a BVH depth in [0, {MAX_DEPTH}], got {value!r}")
+    return int(value)
+
+
+def check_method(value, ccd: bool = False, name: str = "method") -> str:
+    import conecull
+
+    if ccd and value in conecull.METHODS and value not in conecull.CCD_METHODS:
+        raise ValueError(f"{name}: {value!r} is a discrete (DCD) method; CCD needs one of "
+                         f"{', '.join(conecull.CCD_METHODS)}")
+    if not isinstance(value, str) or value not in conecull.METHODS:
+        raise ValueError(f"{name}: expected one of {', '.join(conecull.METHODS)}, got {value!r}")
+    return value
+
+
+def check_arithmetic(value, name: str = "arithmetic") -> str:
+    import conecull
+
+    if not isinstance(value, str) or value not in conecull.ARITHMETIC:
+        raise ValueError(f"{name}: expected one of {', '.join(conecull.ARITHMETIC)}, got {value!r}")
+    return value
+
+
+def check_flag(value, name: str) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name}: expected True or False, got {value!r}")
+    return bool(value)
+
+
+def check_frame_range(value, n_frames: int, name: str = "frame_range") -> range | list[int]:
+    """Frame indices, each in [0, n_frames): none negative (Python's 'from the end' would record
+    another frame than asked) and none beyond the input (no silent clamping); at least one."""
+    if value is None:
+        return range(n_frames)
+    have = f"the input has frames 0..{n_frames - 1}"
+    if isinstance(value, range):  # checked by its ends: range(10**9) is not listed
+        if len(value) == 0:
+            raise ValueError(f"{name}: {value} selects no frame; {have}")
+        for k in (value[0], value[-1]):
+            if not 0 <= k < n_frames:
+                raise ValueError(f"{name}: {value} reaches frame {k}, out of range: {have}")
+        return value
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
+        raise ValueError(f"{name}: expected frame indices such as range(2, 5) or [0, 3], got {value!r}")
+    ks = list(value)
+    if not ks:
+        raise ValueError(f"{name}: selects no frame; {have}")
+    for k in ks:
+        if not _is_int(k):
+            raise ValueError(f"{name}: expected integer frame indices, got {k!r}")
+        if not 0 <= k < n_frames:
+            raise ValueError(f"{name}: frame {k} is out of range: {have}")
+    return [int(k) for k in ks]
+
+
+def check_node(value, n_nodes: int, name: str = "node") -> int:
+    """A BVH node id of a collider that has n_nodes nodes."""
+    if n_nodes == 0:
+        raise ValueError(f"{name}: the collider has no BVH yet: run a query (col.dcd(V)) first")
+    if not _is_int(value):
+        raise ValueError(f"{name}: expected an integer node id in 0..{n_nodes - 1}, got {value!r}")
+    if not 0 <= value < n_nodes:
+        raise ValueError(f"{name}: {value} is out of range: the BVH has nodes 0..{n_nodes - 1}")
+    return int(value)
+
+
+def check_host_port(host, port, host_name: str = "host", port_name: str = "port") -> None:
+    """Refuse, before the viewer starts, what it cannot serve: its server starts in a thread
+    that on such an error dies or retries for ever, while the caller waits for it."""
+    if not _is_int(port) or not 0 <= port <= 65535:
+        raise ValueError(f"{port_name}: expected a TCP port in [0, 65535] (0: any free one), got {port!r}")
+    if not isinstance(host, str) or not host:
+        raise ValueError(f"{host_name}: expected a host name or IP address, got {host!r}")
+    try:
+        infos = socket.getaddrinfo(host, 0, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
+    except (socket.gaierror, UnicodeError) as e:
+        raise ValueError(f"{host_name}: cannot resolve {host!r} ({e})") from None
+    for family, kind, proto, _, addr in infos:  # the server listens on every address the host names
+        try:
+            with socket.socket(family, kind, proto) as s:
+                s.bind(addr)  # port 0: tests the address, whatever ports are taken
+        except OSError as e:
+            raise ValueError(f"{host_name}: cannot listen on {host!r} ({addr[0]}: {e.strerror or e}); "
+                             "give an address of this machine, such as 127.0.0.1") from None
+
+
+def url_host(host: str) -> str:
+    """The host to put in a URL to open: wildcard addresses mean this machine; IPv6 in brackets."""
+    if host in ("0.0.0.0", "::"):
+        return "127.0.0.1" if host == "0.0.0.0" else "[::1]"
+    return f"[{host}]" if ":" in host else host
