@@ -26,10 +26,10 @@ def path_to_root(bvh: dict, node: int) -> list[int]:
 
 def check_result(col, res) -> None:
     """res must be a traced query of col itself: node ids mean nothing in another collider's BVH.
-    A result does not carry its collider, so this compares what the trace shows of it: the
-    method, the BVH's depth (the trace has one level entry per depth) and that every node, face,
-    vertex, edge and contour edge it names exists in col. A result of another mesh with the same
-    method, BVH depth and enough of everything passes unnoticed."""
+    A result names its collider (res.collider, a weak reference). For a result built by hand
+    (collider None), what the trace shows is compared instead: the method, the BVH's depth (the
+    trace has one level entry per depth) and that every node, face, vertex, edge and contour edge
+    it names exists in col."""
     import conecull
 
     if not isinstance(col, conecull.SelfCollider):
@@ -41,6 +41,8 @@ def check_result(col, res) -> None:
         raise ValueError("col: has no BVH yet (it is built by the first query): run col.dcd(V) first")
     if res.trace is None:
         raise ValueError("res: the query was not traced; run it with trace=True (col.dcd(V, trace=True))")
+    if res.collider is not None and res.collider() is not col:
+        raise ValueError("res: comes from another collider; pass the result of a query of col itself")
     method = res.stats.get("method")
     if method != col.method:
         raise ValueError(f"res: comes from a query with method {method!r}, but col uses {col.method!r}; "

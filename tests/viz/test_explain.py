@@ -1,6 +1,8 @@
 """explain_node refuses what it cannot explain, naming the argument: a result of another
 collider, an untraced result, a bad node id, a collider without a BVH yet."""
 
+import dataclasses
+
 import pytest
 
 import conecull
@@ -33,12 +35,28 @@ def test_refuses_a_result_of_another_mesh(sheets, other):
         explain_node(col, res2, 0)
     with pytest.raises(ValueError, match="res: comes from another collider"):
         explain_node(col2, res, 0)
+    with pytest.raises(ValueError, match="res: comes from another collider"):  # judged by its trace
+        explain_node(col, dataclasses.replace(res2, collider=None), 0)
 
 
 def test_refuses_a_result_of_another_method(sheets):
     col, res, _ = sheets[0]
-    with pytest.raises(ValueError, match="res: comes from a query with method 'aabb', but col uses 'nc'"):
+    with pytest.raises(ValueError, match="res: comes from another collider"):
         explain_node(col, sheets[3][1], 0)
+    # a result without its collider (built by hand) is judged by what its trace shows
+    with pytest.raises(ValueError, match="res: comes from a query with method 'aabb', but col uses 'nc'"):
+        explain_node(col, dataclasses.replace(sheets[3][1], collider=None), 0)
+
+
+def test_refuses_a_result_of_a_twin_collider(sheets):
+    """Same mesh, same method, same poses: the trace cannot tell the two apart, the result can."""
+    col, res, P = sheets[0]
+    twin = conecull.SelfCollider(col.mesh, method=col.method)
+    twin.dcd(P[0])
+    assert res.collider() is col
+    with pytest.raises(ValueError, match="res: comes from another collider"):
+        explain_node(twin, res, 0)
+    assert explain_node(twin, dataclasses.replace(res, collider=None), 0) == explain_node(col, res, 0)
 
 
 def test_refuses_an_untraced_result(sheets):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -165,6 +166,9 @@ class DcdResult:
     front_bytes, front_added, front_removed for the front methods, else 0) and seconds per stage."""
     trace: Trace | None = None
     """The query's events (conecull.trace schema) when queried with trace=True."""
+    collider: weakref.ref | None = field(default=None, repr=False, compare=False)
+    """A weak reference to the SelfCollider that answered (its node ids are the ones the trace
+    names): res.collider() is that collider, or None once it is gone."""
 
 
 @dataclass
@@ -179,6 +183,8 @@ class CcdResult:
     (no contact happens before it; within 2^-20 of the first time the pair comes that close)."""
     trace: Trace | None = None
     """The step's events (conecull.trace schema, with the vf and ee kinds) when traced."""
+    collider: weakref.ref | None = field(default=None, repr=False, compare=False)
+    """A weak reference to the SelfCollider that answered (see DcdResult.collider)."""
 
 
 ARITHMETIC = ("float", "conservative", "exact")
@@ -233,7 +239,8 @@ class SelfCollider:
         t = _as_threads(threads)
         a = _as_positions(V, self.mesh.n_vertices)
         pairs, stats, raw = self._core.dcd(a, bool(trace), t, bool(stop_at_first))
-        return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None)
+        return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None,
+                         collider=weakref.ref(self))
 
     def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False,
             threads: int | None = None) -> CcdResult:
@@ -253,7 +260,8 @@ class SelfCollider:
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
         vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t)
-        return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=Trace(raw) if raw is not None else None)
+        return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=Trace(raw) if raw is not None else None,
+                         collider=weakref.ref(self))
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:
