@@ -163,29 +163,16 @@ def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 
     return 0
 
 
-def _shared_data_dir():
-    import pathlib
-
-    env = os.environ.get("CONECULL_SHARED")
-    for cand in ([pathlib.Path(env)] if env else []) + [pathlib.Path.cwd().parent / "shared",
-                                                        pathlib.Path(__file__).resolve().parents[2] / "shared"]:
-        if (cand / "data").exists():
-            return cand / "data"
-    return None
-
-
 def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3, out: str = "bench-results",
                   threads: int = 1) -> int:
     """What accuracy costs in time: per arithmetic mode, on the shared real steps and a generated
     64K cloth step, ms per step, us per elementary test, FN and FP against ground truth; and the
     same for the single-query sets. Method nc, one thread (or `threads`), medians of `repeats` runs."""
-    import sys
+    from conecull.datasets.shared import ccd_query_files, load_ccd_queries, shared_data_dir
 
-    data = _shared_data_dir()
+    data = shared_data_dir()
     if data is None:
         print("../shared/data not found (set CONECULL_SHARED); only the generated step is measured")
-    sys.path.insert(0, str(pathlib_tests()))
-    from shared_data import load_ccd_queries  # tests/shared_data.py
 
     steps = [(f"{name} ({len(F) // 1000}K)", F, *rest) for name, F, *rest in shared_steps()]
     steps.extend(_generated_ccd_steps(n_triangles))
@@ -230,7 +217,7 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
         print()
         print("| single-query sets | mode | queries | ms total | us per query | FN | FP |")
         print("|---|---|---|---|---|---|---|")
-        files = sorted((data / "ccd-queries").glob("*/*/*.csv"))
+        files = ccd_query_files(data)
         loaded = [load_ccd_queries(p) for p in files]
         for mode in ("float", "conservative", "exact"):
             total = fn = fp = 0
@@ -323,19 +310,12 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
 
 def shared_steps():
     """Every step of ../shared/data/scalable-ccd as (scene, F, V0, V1, vf truth, ee truth); [] without the data."""
-    import sys
+    from conecull.datasets.shared import load_scalable_step, scalable_ccd_steps, shared_data_dir
 
-    data = _shared_data_dir()
+    data = shared_data_dir()
     if data is None:
         return []
-    sys.path.insert(0, str(pathlib_tests()))
-    from shared_data import load_scalable_step  # tests/shared_data.py
-
-    steps = []
-    for scene in sorted(p for p in (data / "scalable-ccd").iterdir() if p.is_dir()):
-        for vf in sorted((scene / "boxes").glob("*vf.json")):
-            steps.append((scene.name, *load_scalable_step(scene.name, vf.name[: -len("vf.json")])))
-    return steps
+    return [(scene, *load_scalable_step(data, scene, step)) for scene, step in scalable_ccd_steps(data)]
 
 
 def _generated_ccd_steps(n_triangles: int):
@@ -426,12 +406,3 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     return 0
 
 
-def pathlib_tests():
-    """tests/ of a source checkout (the loaders of ../shared/data live there)."""
-    import pathlib
-
-    here = pathlib.Path(__file__).resolve()
-    for cand in (here.parents[1] / "tests", pathlib.Path.cwd() / "tests"):
-        if (cand / "shared_data.py").exists():
-            return cand
-    raise RuntimeError("conecull bench ccd runs from a source checkout (it reads ../shared/data with tests/shared_data.py)")

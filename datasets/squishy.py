@@ -48,7 +48,7 @@ def squishy_ball(n: int = 160, tentacle_length: float = 1.0, curl: float = 0.35,
     rings = max(3, n // 3)
     rng = np.random.default_rng(seed)
     # lattice points on the cube surface, in integer coordinates 0..n, welded by np.unique
-    keys, cells = [], []
+    keys = []
     g = np.arange(n + 1)
     I, J = np.meshgrid(g, g, indexing="ij")
     for axis, sign, (ua, va) in _PATCHES:

@@ -26,7 +26,6 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from conecull.datasets import checks
-from conecull.trace import REASONS
 from conecull.viz import layers as L
 from conecull.viz.checks import check_arithmetic, check_depth, check_flag, check_frame_range, check_method
 
