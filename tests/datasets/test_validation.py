@@ -173,3 +173,16 @@ def test_scene_listing_columns_line_up():
     # the description (last column) starts at the same place on every line
     starts = {line.index(s.description) for line, s in zip(lines, datasets.SCENES.values())}
     assert len(starts) == 1
+
+
+def test_bad_frame_folders_are_named(tmp_path):
+    d = tmp_path / "frames"
+    d.mkdir()
+    (d / "notes.txt").write_text("no meshes here")
+    with pytest.raises(ValueError, match=r"INPUT: folder '.*frames' has no \.obj or \.ply frames"):
+        load_sequence(str(d))
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    trimesh.Trimesh(V, TRI, process=False).export(d / "f0.ply")
+    trimesh.Trimesh(np.vstack([V, [[5, 5, 5]]]), TRI, process=False).export(d / "f1.ply")  # one vertex more
+    with pytest.raises(ValueError, match=r"INPUT: frame 'f1\.ply' has 4 vertices, 'f0\.ply' has 3"):
+        load_sequence(str(d))
