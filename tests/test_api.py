@@ -212,3 +212,16 @@ def test_queries_release_the_gil():
     finally:
         sys.setswitchinterval(old)
     assert longest < query / 2, f"the main thread paused {longest * 1e3:.1f} ms during {query * 1e3:.1f} ms queries"
+
+
+def test_mesh_pickles_and_copies_a_collider_refuses():
+    import copy
+    import pickle
+
+    m = conecull.Mesh(F, n_vertices=30)  # 5 isolated vertices beyond the faces' range are kept
+    for m2 in (pickle.loads(pickle.dumps(m)), copy.deepcopy(m), copy.copy(m)):
+        assert m2.n_vertices == 30 and np.array_equal(m2.faces, m.faces) and np.array_equal(m2.edges, m.edges)
+    c = conecull.SelfCollider(m)
+    for op in (pickle.dumps, copy.deepcopy, copy.copy):
+        with pytest.raises(TypeError, match="SelfCollider cannot be pickled or copied: pickle its mesh"):
+            op(c)

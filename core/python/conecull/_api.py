@@ -96,6 +96,11 @@ class Mesh:
         except MemoryError:
             raise MemoryError(f"n_vertices: {int(n_vertices)} vertices need more memory than this machine has") from None
 
+    def __reduce__(self):
+        # Pickled (and copied) as its faces and vertex count; the topology is rebuilt from them,
+        # so a Mesh can go to a worker process.
+        return (Mesh, (self.faces, self.n_vertices))
+
     @property
     def n_vertices(self) -> int:
         return self._topo.n_vertices
@@ -219,6 +224,12 @@ class SelfCollider:
         self.method = method
         self.leaf_size = int(leaf_size)
         self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size, _as_threads(threads))
+
+    def __reduce__(self):
+        # Its state (the BVH built from the first pose, the fronts) lives in the core and would
+        # have to be rebuilt anyway; copying it silently from another pose would renumber nodes.
+        raise TypeError("SelfCollider cannot be pickled or copied: pickle its mesh (a conecull.Mesh) and create "
+                        "a new SelfCollider from it")
 
     @property
     def threads(self) -> int:
