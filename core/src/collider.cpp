@@ -133,15 +133,7 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
 template <class Tracer>
 void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult& res, bool stop_at_first) {
     DcdStats& st = res.stats;
-    auto t0 = Clock::now();
-    traverse(Discrete{V}, tracer, st);
-    st.seconds_traversal = seconds_since(t0);
-
-    t0 = Clock::now();
-    // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
     const int32_t* F = topo_->faces.data();
-    const CandidateList& candidates = candidate_list_;
-    const Chunks ch(candidates.size(), query_threads_, 512);
     const auto collide = [&](const TrianglePair& c) {
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
@@ -166,6 +158,46 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             __builtin_prefetch(V + 3 * static_cast<size_t>(fq[i]));
         }
     };
+    if constexpr (!kTraceHooks<Tracer>) {
+        if (stop_at_first && (method_ == Method::kAabb || method_ == Method::kNc)) {
+            // Without a front to keep complete, the traversal itself stops at the first hit
+            // (parallel_self_collide.hpp). A traced query keeps the full traversal (its events
+            // are those of the full query up to the hit), as do the front methods (their front
+            // must stay whole) and the sct / cbc baselines (one thread, the full traversal).
+            const auto t0 = Clock::now();
+            const auto run = [&](auto cones) {
+                constexpr bool kCones = decltype(cones)::value;
+                const Discrete motion{V};
+                const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                    return SelfCollideTraversal<kCones, Tracer, Discrete, false>(bvh_, contours_, cones_, motion, tracer,
+                                                                                s, out);
+                };
+                const auto find_hit = [&](const std::vector<TrianglePair>& c) {
+                    CandidateList list;
+                    list.set(c);
+                    return list.find_in_range(0, list.size(), collide, ahead);
+                };
+                return self_collide_until_first_hit(bvh_, query_threads_, make, find_hit, st, parallel_);
+            };
+            const FirstHit hit = method_ == Method::kNc ? run(std::true_type{}) : run(std::false_type{});
+            candidates_.clear();
+            candidate_list_.set(candidates_);
+            if (hit.found) res.pairs.push_back(hit.pair);
+            st.elementary_tests = hit.tests;
+            st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
+            st.seconds_traversal = seconds_since(t0);  // the tests run inside it
+            st.seconds_elementary = 0.0;
+            return;
+        }
+    }
+    auto t0 = Clock::now();
+    traverse(Discrete{V}, tracer, st);
+    st.seconds_traversal = seconds_since(t0);
+
+    t0 = Clock::now();
+    // The candidates in chunks, each chunk's hits in its own list, concatenated in order.
+    const CandidateList& candidates = candidate_list_;
+    const Chunks ch(candidates.size(), query_threads_, 512);
     if (stop_at_first) {
         // The first colliding candidate in traversal order. A chunk after one that has a hit is
         // skipped; every chunk before the final first one has run to its end, so the answer and

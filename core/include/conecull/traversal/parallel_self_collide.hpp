@@ -92,6 +92,30 @@ struct ParallelTraversalScratch {
     std::vector<Padded<DcdStats>> stats;                        // per worker
 };
 
+// The top of the BVTT expanded, level by level, into an ordered list of at least `enough` tasks
+// (or every task at the leaves) in s.tasks; the tests of the expansion are counted in s.stats
+// (one per worker). The list depends on `enough` only, never on the thread count.
+template <class Make>
+void expand_tasks(int threads, const Make& make, size_t enough, ParallelTraversalScratch& s) {
+    std::vector<TrianglePair> none;  // the expansion emits no candidates
+    std::vector<BvttTask>& tasks = s.tasks;
+    tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
+    s.stats.assign(threads, Padded<DcdStats>{});
+    while (tasks.size() < enough) {
+        const size_t n = tasks.size();
+        if (s.expanded_of.size() < n) s.expanded_of.resize(n);
+        s.progressed.assign(n, 0);
+        parallel_chunks(static_cast<int64_t>(n), n < 4 ? 1 : threads, [&](int64_t k, int w) {
+            s.expanded_of[k].clear();
+            s.progressed[k] = make(s.stats[w].value, none, nullptr).expand(tasks[k], s.expanded_of[k]);
+        });
+        s.expanded.clear();
+        for (size_t k = 0; k < n; ++k) s.expanded.insert(s.expanded.end(), s.expanded_of[k].begin(), s.expanded_of[k].end());
+        tasks.swap(s.expanded);
+        if (std::find(s.progressed.begin(), s.progressed.begin() + n, 1) == s.progressed.begin() + n) break;
+    }
+}
+
 // make(stats, candidates, part) constructs a SelfCollideTraversal writing to them (and, with a
 // front, its sub-segments to part); front: the front of a front method, else null. The
 // candidates are left in s, listed by `candidates`.
@@ -101,30 +125,14 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
     candidates.whole = nullptr;
     candidates.parts = &s.candidates;
     candidates.offset.assign(1, 0);
-    std::vector<TrianglePair> none;  // the expansion emits no candidates
     if (front) front->next.clear();
     if (bvh.size() > 0) {
         std::vector<BvttTask>& tasks = s.tasks;
-        tasks.assign(1, BvttTask{0, BvttTask::kSelfTask});
-        s.stats.assign(threads, Padded<DcdStats>{});
         // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
         // traversal ends with its last task. The levels are expanded in parallel too: their
         // cone and contour tests (Alg. 2 lines 5-6) are on the largest nodes, with the longest
         // contours.
-        const size_t enough = 64 * static_cast<size_t>(threads);
-        while (tasks.size() < enough) {
-            const size_t n = tasks.size();
-            if (s.expanded_of.size() < n) s.expanded_of.resize(n);
-            s.progressed.assign(n, 0);
-            parallel_chunks(static_cast<int64_t>(n), n < 4 ? 1 : threads, [&](int64_t k, int w) {
-                s.expanded_of[k].clear();
-                s.progressed[k] = make(s.stats[w].value, none, nullptr).expand(tasks[k], s.expanded_of[k]);
-            });
-            s.expanded.clear();
-            for (size_t k = 0; k < n; ++k) s.expanded.insert(s.expanded.end(), s.expanded_of[k].begin(), s.expanded_of[k].end());
-            tasks.swap(s.expanded);
-            if (std::find(s.progressed.begin(), s.progressed.begin() + n, 1) == s.progressed.begin() + n) break;
-        }
+        expand_tasks(threads, make, 64 * static_cast<size_t>(threads), s);
         const size_t n = tasks.size();
         if (s.candidates.size() < n) s.candidates.resize(n);
         if (front && s.fronts.size() < n) s.fronts.resize(n);
@@ -168,6 +176,55 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
         }
     }
     if (front) front->finish_query(stats);
+}
+
+// The first colliding candidate in traversal order, and the candidates tested up to it.
+struct FirstHit {
+    bool found = false;
+    TrianglePair pair{};
+    int64_t tests = 0;
+};
+
+// Tasks and blocks of the first-hit traversal: fixed, so that what it runs, and so every counter,
+// is the same for any thread count.
+inline constexpr size_t kFirstHitTasks = 256;
+inline constexpr size_t kFirstHitBlock = 16;
+
+// dcd(stop_at_first) without a front: the tasks of expand_tasks, in order, a block at a time; each
+// task traverses its part of the BVTT and at once tests its candidates in order with
+// find_hit(candidates) (the index of the first colliding one, or their count). The first block
+// holding a hit ends the query: the traversal stops there too, not only the tests. Its tasks are
+// those of the serial traversal in its order, so the hit is the serial traversal's first one, and
+// every candidate before it has been tested.
+template <class Make, class FindHit>
+FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& make, const FindHit& find_hit,
+                                      DcdStats& stats, ParallelTraversalScratch& s) {
+    FirstHit out;
+    if (bvh.size() == 0) return out;
+    expand_tasks(threads, make, kFirstHitTasks, s);
+    const std::vector<BvttTask>& tasks = s.tasks;
+    const size_t n = tasks.size();
+    if (s.candidates.size() < n) s.candidates.resize(n);
+    std::vector<int64_t> hit_at(n, 0);
+    for (size_t b = 0; b < n && !out.found; b += kFirstHitBlock) {
+        const size_t e = std::min(n, b + kFirstHitBlock);
+        parallel_chunks(static_cast<int64_t>(e - b), threads, [&](int64_t i, int w) {
+            std::vector<TrianglePair>& c = s.candidates[b + i].value;
+            c.clear();
+            make(s.stats[w].value, c, nullptr).run_task(tasks[b + i]);
+            hit_at[b + i] = find_hit(c);
+        });
+        for (size_t k = b; k < e; ++k) {
+            const std::vector<TrianglePair>& c = s.candidates[k].value;
+            if (hit_at[k] < static_cast<int64_t>(c.size())) {
+                out = {true, c[hit_at[k]], out.tests + hit_at[k] + 1};
+                break;
+            }
+            out.tests += static_cast<int64_t>(c.size());
+        }
+    }
+    for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);
+    return out;
 }
 
 }  // namespace conecull
