@@ -45,12 +45,17 @@ def test_explain_known_failing_contour(capsys):
     assert f"verdict: not culled, {name}" in text and f"node {node}" in text
 
 
-def test_folder_and_npz_inputs(tmp_path, capsys):
-    F, frames = folding_sheet(200, 4)
-    d = tmp_path / "frames"
+def write_frames(d, F, frames, name):
+    """A folder of PLY frames, frame k in the file name(k)."""
     d.mkdir()
     for k, V in enumerate(frames):
-        trimesh.Trimesh(V, F, process=False).export(d / f"f{k:03d}.ply")
+        trimesh.Trimesh(V, F, process=False).export(d / name(k))
+    return d
+
+
+def test_folder_and_npz_inputs(tmp_path, capsys):
+    F, frames = folding_sheet(200, 4)
+    d = write_frames(tmp_path / "frames", F, frames, lambda k: f"f{k:03d}.ply")
     assert main(["record", str(d), "--out", str(tmp_path / "a.rrd")]) == 0
     trimesh.Trimesh(frames[0], F, process=False).export(tmp_path / "m.obj")
     np.savez(tmp_path / "p.npz", positions=frames)
@@ -98,10 +103,7 @@ def test_scene_resolution_and_generate(tmp_path, capsys):
 
 def test_resolution_is_only_for_scenes(tmp_path, capsys):
     F, frames = folding_sheet(50, 2)
-    d = tmp_path / "frames"
-    d.mkdir()
-    for k, V in enumerate(frames):
-        trimesh.Trimesh(V, F, process=False).export(d / f"f{k:03d}.ply")
+    d = write_frames(tmp_path / "frames", F, frames, lambda k: f"f{k:03d}.ply")
     assert main(["record", str(d), "--resolution", "8", "--out", str(tmp_path / "x.rrd")]) == 2
     assert "resolution: only for a built-in scene" in capsys.readouterr().err
 
@@ -170,10 +172,7 @@ def test_record_unpadded_folder_in_numeric_order(tmp_path, capsys):
     from rrd_helpers import rows_by_frame
 
     F, frames = folding_sheet(50, 12)
-    d = tmp_path / "frames"
-    d.mkdir()
-    for k, V in enumerate(frames):
-        trimesh.Trimesh(V, F, process=False).export(d / f"frame{k}.ply")
+    d = write_frames(tmp_path / "frames", F, frames, lambda k: f"frame{k}.ply")
     out = str(tmp_path / "r.rrd")
     assert main(["record", str(d), "--out", out]) == 0
     mesh = rows_by_frame(out, "/scene/mesh", "Mesh3D:vertex_positions")
