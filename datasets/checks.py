@@ -24,6 +24,8 @@ def count(name: str, value, low: int, high: int | None = None) -> int:
 def real(name: str, value, low: float | None = None, high: float | None = None, *, low_open: bool = False,
          high_open: bool = False) -> float:
     """A finite real number within the bounds given (open or closed); NaN and inf never pass."""
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "fiu":
+        value = value.item()  # a 0-d array is a number
     ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, numbers.Real) and np.isfinite(value)
     if ok:
         v = float(value)
@@ -39,8 +41,11 @@ def real(name: str, value, low: float | None = None, high: float | None = None, 
     raise ValueError(f"{name}: expected a finite number{' ' + ' and '.join(bounds) if bounds else ''}, got {value!r}")
 
 
-def seed(name: str, value) -> int:
-    """A random seed: a non-negative integer (what np.random.default_rng takes)."""
+def seed(name: str, value):
+    """A random seed as np.random.default_rng takes it: a non-negative integer, None (fresh
+    entropy) or a SeedSequence."""
+    if value is None or isinstance(value, np.random.SeedSequence):
+        return value
     return count(name, value, 0)
 
 
@@ -91,7 +96,13 @@ def _real_array(name: str, value) -> np.ndarray:
         raise ValueError(f"{name}: not a rectangular array ({e})") from None
     if a.dtype.kind not in "fiu":  # complex would lose its imaginary part, objects and strings are no coordinates
         raise ValueError(f"{name}: expected real coordinates, got dtype {a.dtype}")
-    return a.astype(np.float64)
+    b = a.astype(np.float64)
+    # longdouble, or integers beyond 2^53: converting must not move a coordinate (the queries'
+    # answers are exact for the doubles they get)
+    if a.dtype.itemsize > 4 and a.dtype != np.float64 and not np.array_equal(b.astype(a.dtype), a, equal_nan=True):
+        raise ValueError(f"{name}: some {a.dtype} coordinates are not exactly float64 (rounding would move them); "
+                         "pass float64")
+    return b
 
 
 def _first_non_finite(a: np.ndarray) -> str:

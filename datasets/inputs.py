@@ -72,6 +72,12 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     frames are its .obj/.ply files in `frame_order` (by the numbers in their names)."""
     from conecull.datasets.registry import SCENES, load
 
+    if isinstance(source, os.PathLike):
+        source = os.fspath(source)
+    if isinstance(positions, os.PathLike):
+        positions = os.fspath(positions)
+    if not isinstance(source, str):
+        raise ValueError(f"INPUT: expected a scene name or a path, got {type(source).__name__}")
     if source in SCENES and not os.path.exists(source):
         if positions is not None:
             raise ValueError(f"positions: only with a single mesh file, not with the scene '{source}'")

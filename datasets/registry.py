@@ -145,6 +145,7 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
         raise ValueError(f"name: unknown scene {name!r}; known: {', '.join(SCENES)}")
     scene = SCENES[name]
     resolution = count("resolution", scene.default_resolution if resolution is None else resolution, 3)
+    frames_given = frames is not None  # a size error names what the caller chose (the CLI sets no frame count)
     frames = count("frames", scene.default_frames if frames is None else frames, 1)
     path = cache_dir() / f"{name}-{_key(scene, resolution, frames)}.npz"
     if path.exists():
@@ -160,7 +161,8 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     # frames x vertices x 24 bytes, with vertices at least about half the triangles.
     frame_bytes = 24.0 * (n_triangles / 2 + 1)
     fits_in_memory("resolution", frame_bytes, f"one frame of scene '{name}' at resolution {resolution}")
-    fits_in_memory("frames", frames * frame_bytes, f"{frames} frames of scene '{name}' at resolution {resolution}")
+    fits_in_memory("frames" if frames_given else "resolution", frames * frame_bytes,
+                   f"{frames} frames of scene '{name}' at resolution {resolution}")
     try:
         F, P = scene.generate(resolution, frames, scene.dt)
     except MemoryError:

@@ -60,7 +60,8 @@ def test_face_index_out_of_range_with_n_vertices():
         ([[0, 0, 0]], r"V: expected a float64"),
         ([[0.0, 0.0, 0.0]] * 24 + [[0.0, 1.0]], r"V: not a rectangular array"),
         # converting would round: 1 + 2^-60 becomes 1, a different pose with other exact signs
-        (V.astype(np.longdouble) + np.longdouble(2.0) ** -60, r"V: dtype float128 would be rounded to float64"),
+        (V.astype(np.longdouble) + np.longdouble(2.0) ** -60,
+         r"V: some float128 coordinates are not exactly float64 \(rounding would move them\)"),
         (np.ma.array(V, mask=np.eye(25, 3, dtype=bool)), r"V: masked entries are not supported"),
     ],
 )
@@ -106,6 +107,16 @@ def test_core_rejects_bad_shapes_too():
         _core.SelfCollider(topo, "xyz", 1)
     with pytest.raises(ValueError, match=r"method: unknown method 'front'; expected one of 'aabb', 'nc', 'aabb\+front'"):
         _core.SelfCollider(topo, "front", 1)
+
+
+def test_exact_wider_types_accepted():
+    """longdouble or int64 coordinates that float64 holds exactly are accepted, with the same answer."""
+    Vw = V.copy()
+    Vw[:, 2] = 0.3 * np.sin(4 * Vw[:, 0])
+    want = col().dcd(Vw).pairs
+    assert np.array_equal(col().dcd(Vw.astype(np.longdouble)).pairs, want)
+    assert conecull.vertex_face_ccd(np.array([1, 0, 0], np.int64), [0, 0, 0], [1, 0, 0], [0, 1, 0],
+                                    np.array([1, 0, 0], np.longdouble), [0, 0, 0], [1, 0, 0], [0, 1, 0])
 
 
 def test_float32_accepted_and_same_result():
@@ -192,12 +203,17 @@ def test_queries_release_the_gil():
 
     from conecull.datasets.generated import folding_sheet
 
-    Fb, frames = folding_sheet(64000, 2)
-    c = conecull.SelfCollider(conecull.Mesh(Fb), method="aabb", threads=1)
-    c.dcd(frames[1])
-    t0 = time.perf_counter()
-    c.dcd(frames[1])
-    query = time.perf_counter() - t0
+    n = 64000
+    while True:  # a query long enough to tell a pause from a switch (20 ms; larger on a faster machine)
+        Fb, frames = folding_sheet(n, 2)
+        c = conecull.SelfCollider(conecull.Mesh(Fb), method="aabb", threads=1)
+        c.dcd(frames[1])
+        t0 = time.perf_counter()
+        c.dcd(frames[1])
+        query = time.perf_counter() - t0
+        if query > 0.02 or n >= 1_000_000:
+            break
+        n *= 2
     assert query > 0.02, f"the query ({query * 1e3:.1f} ms) is too short to tell a pause from a switch"
     old = sys.getswitchinterval()
     sys.setswitchinterval(0.0005)
@@ -214,13 +230,20 @@ def test_queries_release_the_gil():
     assert longest < query / 2, f"the main thread paused {longest * 1e3:.1f} ms during {query * 1e3:.1f} ms queries"
 
 
-def test_mesh_pickles_and_copies_a_collider_refuses():
+def test_mesh_and_results_pickle_a_collider_refuses():
     import copy
     import pickle
 
     m = conecull.Mesh(F, n_vertices=30)  # 5 isolated vertices beyond the faces' range are kept
     for m2 in (pickle.loads(pickle.dumps(m)), copy.deepcopy(m), copy.copy(m)):
         assert m2.n_vertices == 30 and np.array_equal(m2.faces, m.faces) and np.array_equal(m2.edges, m.edges)
+    c = conecull.SelfCollider(conecull.Mesh(F))
+    Vw = V.copy()
+    Vw[:, 2] = 0.3 * np.sin(4 * Vw[:, 0])
+    for res in (c.dcd(Vw, trace=True), c.ccd(V, Vw, toi=True)):  # results do pickle (from a worker), without their collider
+        back = pickle.loads(pickle.dumps(res))
+        assert res.collider() is c and back.collider is None
+        assert all(np.array_equal(getattr(back, k), getattr(res, k)) for k in ("pairs", "vf", "ee", "toi") if hasattr(res, k))
     c = conecull.SelfCollider(m)
     for op in (pickle.dumps, copy.deepcopy, copy.copy):
         with pytest.raises(TypeError, match="SelfCollider cannot be pickled or copied: pickle its mesh"):

@@ -95,13 +95,18 @@ def check_host_port(host, port, host_name: str = "host", port_name: str = "port"
         infos = socket.getaddrinfo(host, 0, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
     except (socket.gaierror, UnicodeError) as e:
         raise ValueError(f"{host_name}: cannot resolve {host!r} ({e})") from None
-    for family, kind, proto, _, addr in infos:  # the server listens on every address the host names
+    # The server listens on the addresses the host names that it can bind (asyncio skips address
+    # families the kernel lacks, e.g. IPv6 for 'localhost'): one is enough.
+    errors = []
+    for family, kind, proto, _, addr in infos:
         try:
             with socket.socket(family, kind, proto) as s:
                 s.bind(addr)  # port 0: tests the address, whatever ports are taken
+            return
         except OSError as e:
-            raise ValueError(f"{host_name}: cannot listen on {host!r} ({addr[0]}: {e.strerror or e}); "
-                             "give an address of this machine, such as 127.0.0.1") from None
+            errors.append(f"{addr[0]}: {e.strerror or e}")
+    raise ValueError(f"{host_name}: cannot listen on {host!r} ({'; '.join(errors) or 'no address'}); "
+                     "give an address of this machine, such as 127.0.0.1")
 
 
 def url_host(host: str) -> str:

@@ -189,12 +189,14 @@ class ViewerApp:
         scene = self.server.scene
         if self.selected_face is None:
             return
-        bvh = self.col.bvh_arrays()
+        # The collider that answered the shown query: the method dropdown may already be ahead of it.
+        col = self.res.collider() or self.col
+        bvh = col.bvh_arrays()
         node = node_at_depth(bvh, self.selected_face, int(self.depth.value))
-        text = explain_node(self.col, self.res, node)
+        text = explain_node(col, self.res, node)
         self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {int(self.frame.value)})\n\n" + \
             "\n\n".join(text.splitlines())
-        ct = self.col.contour_arrays()
+        ct = col.contour_arrays()
         loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
         if len(loop):
             pts = self.V[np.append(loop, loop[0])]
@@ -202,7 +204,7 @@ class ViewerApp:
                                     thickness=4.0, thickness_units="screen")
         else:
             scene.add_line_segments("/selected/contour", np.zeros((0, 2, 3)), HIGHLIGHT)
-        cones = self.col.cone_arrays()
+        cones = col.cone_arrays()
         if len(cones["axis"]) > node:
             c = 0.5 * (bvh["box"][node, 0] + bvh["box"][node, 1])
             size = float(np.linalg.norm(bvh["box"][node, 1] - bvh["box"][node, 0]))

@@ -67,6 +67,8 @@ def test_load_refuses_and_never_caches_non_finite_positions(cache, monkeypatch):
     ({"name": "fold", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'fold'"),
     ({"name": "squishy", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'squishy'"),
     ({"name": "falling", "resolution": 10**7, "frames": 1}, "resolution: 10000000 does not suit scene 'falling'"),
+    # frames left at the scene's default (as the CLI does): the resolution is what to change
+    ({"name": "squishy", "resolution": 3000}, "resolution: 20 frames of scene 'squishy' at resolution 3000"),
 ])
 def test_load_refuses_sizes_beyond_memory_up_front(kwargs, match):
     with pytest.raises(ValueError, match=match):
@@ -186,3 +188,27 @@ def test_bad_frame_folders_are_named(tmp_path):
     trimesh.Trimesh(np.vstack([V, [[5, 5, 5]]]), TRI, process=False).export(d / "f1.ply")  # one vertex more
     with pytest.raises(ValueError, match=r"INPUT: frame 'f1\.ply' has 4 vertices, 'f0\.ply' has 3"):
         load_sequence(str(d))
+
+
+def test_valid_forms_are_accepted(tmp_path):
+    """What NumPy and the standard library accept stays accepted: a 0-d array as a number, None or
+    a SeedSequence as a seed, pathlib paths, exact wider dtypes."""
+    F, V = generated.grid_sheet(5, 5)
+    assert np.array_equal(generated.fold(V, np.array(1.0)), generated.fold(V, 1.0))
+    a = generated.crumpling_sphere(8, 12, 2, seed=np.random.SeedSequence(1))[1]
+    b = generated.crumpling_sphere(8, 12, 2, seed=np.random.SeedSequence(1))[1]
+    assert np.array_equal(a, b) and np.isfinite(generated.crumpling_sphere(8, 12, 2, seed=None)[1]).all()
+    path = tmp_path / "m.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    np.savez(tmp_path / "p.npz", positions=np.zeros((2, 3, 3), np.longdouble))  # exact: accepted
+    Fl, P = load_sequence(path, positions=tmp_path / "p.npz")
+    assert P.shape == (2, 3, 3) and P.dtype == np.float64
+
+
+def test_inexact_positions_are_refused(tmp_path):
+    path = tmp_path / "m.obj"
+    path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    P = np.zeros((2, 3, 3), np.longdouble) + np.longdouble(2.0) ** -60 + 1
+    np.savez(tmp_path / "p.npz", positions=P)
+    with pytest.raises(ValueError, match=r"positions: some float128 coordinates are not exactly float64"):
+        load_sequence(str(path), positions=str(tmp_path / "p.npz"))

@@ -33,11 +33,10 @@ def _asarray(x, name: str) -> np.ndarray:
 def _as_float64(a: np.ndarray, name: str) -> np.ndarray:
     """a as float64 if that conversion is exact; otherwise a ValueError (a rounded coordinate
     would make every exact sign after it the sign of another input)."""
-    if a.dtype.kind == "f" and a.dtype.itemsize > 8:
-        raise ValueError(f"{name}: dtype {a.dtype} would be rounded to float64; pass float64 (or float32)")
     b = a.astype(np.float64)
-    if a.dtype.kind in "iu" and a.dtype.itemsize > 4 and not np.array_equal(b.astype(a.dtype), a):
-        raise ValueError(f"{name}: integer coordinates beyond 2^53 are not exactly float64")
+    if a.dtype.itemsize > 4 and a.dtype != np.float64 and not np.array_equal(b.astype(a.dtype), a, equal_nan=True):
+        what = "integer coordinates beyond 2^53 are" if a.dtype.kind in "iu" else f"{a.dtype} coordinates are"
+        raise ValueError(f"{name}: some {what} not exactly float64 (rounding would move them); pass float64")
     return np.ascontiguousarray(b)
 
 
@@ -173,7 +172,10 @@ class DcdResult:
     """The query's events (conecull.trace schema) when queried with trace=True."""
     collider: weakref.ref | None = field(default=None, repr=False, compare=False)
     """A weak reference to the SelfCollider that answered (its node ids are the ones the trace
-    names): res.collider() is that collider, or None once it is gone."""
+    names): res.collider() is that collider, or None once it is gone. Not pickled."""
+
+    def __getstate__(self):  # a result pickles (e.g. back from a worker process), without its collider
+        return {**self.__dict__, "collider": None}
 
 
 @dataclass
@@ -189,7 +191,10 @@ class CcdResult:
     trace: Trace | None = None
     """The step's events (conecull.trace schema, with the vf and ee kinds) when traced."""
     collider: weakref.ref | None = field(default=None, repr=False, compare=False)
-    """A weak reference to the SelfCollider that answered (see DcdResult.collider)."""
+    """A weak reference to the SelfCollider that answered (see DcdResult.collider). Not pickled."""
+
+    def __getstate__(self):
+        return {**self.__dict__, "collider": None}
 
 
 ARITHMETIC = ("float", "conservative", "exact")
@@ -239,10 +244,12 @@ class SelfCollider:
     def dcd(self, V, trace: bool = False, threads: int | None = None, stop_at_first: bool = False) -> DcdResult:
         """Discrete self-collision query at positions V (n, 3); trace=True also records its events.
         threads: this query's thread count (None: the collider's).
-        stop_at_first=True answers "is this pose intersection-free?": the elementary tests stop at
-        the first colliding pair in traversal order, which `pairs` then holds (else it is empty);
-        stats["elementary_tests"] counts the tests up to it. The traversal is the full one (a
-        front method's front stays complete), and the answer is the same for any thread count."""
+        stop_at_first=True answers "is this pose intersection-free?": the query stops at the first
+        colliding pair in traversal order, which `pairs` then holds (else it is empty);
+        stats["elementary_tests"] counts the tests up to it. With "aabb" and "nc" the traversal
+        stops there too (its counters include the rest of the block of tasks that found the hit);
+        the front methods traverse fully (their front stays complete), as do "sct", "cbc" and
+        traced queries. The answer and every counter are the same for any thread count."""
         if not isinstance(trace, (bool, np.bool_)):
             raise ValueError(f"trace: expected True or False, got {trace!r}")
         if not isinstance(stop_at_first, (bool, np.bool_)):

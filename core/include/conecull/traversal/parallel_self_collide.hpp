@@ -186,7 +186,10 @@ struct FirstHit {
 };
 
 // Tasks and blocks of the first-hit traversal: fixed, so that what it runs, and so every counter,
-// is the same for any thread count.
+// is the same for any thread count. Blocks start small (a hit among the first tasks ends the
+// query early) and then double (16, 16, 32, 64, 128 tasks), so that a pose without a hit pays five
+// parallel regions, not sixteen (measured with 16-task blocks on the 64K fold at 2 threads:
+// aabb 61 -> 69 ms against the full query).
 inline constexpr size_t kFirstHitTasks = 256;
 inline constexpr size_t kFirstHitBlock = 16;
 
@@ -206,8 +209,8 @@ FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& m
     const size_t n = tasks.size();
     if (s.candidates.size() < n) s.candidates.resize(n);
     std::vector<int64_t> hit_at(n, 0);
-    for (size_t b = 0; b < n && !out.found; b += kFirstHitBlock) {
-        const size_t e = std::min(n, b + kFirstHitBlock);
+    for (size_t b = 0, e = 0; b < n && !out.found; b = e) {
+        e = std::min(n, b + std::max(kFirstHitBlock, b));
         parallel_chunks(static_cast<int64_t>(e - b), threads, [&](int64_t i, int w) {
             std::vector<TrianglePair>& c = s.candidates[b + i].value;
             c.clear();
