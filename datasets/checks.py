@@ -12,10 +12,14 @@ import os
 import numpy as np
 
 
+def is_int(value) -> bool:
+    """A Python or NumPy integer, and not a bool."""
+    return not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, np.integer))
+
+
 def count(name: str, value, low: int, high: int | None = None) -> int:
     """An integer in [low, high] (bool is not a count); no silent clamping."""
-    ok = not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, np.integer))
-    if ok and value >= low and (high is None or value <= high):
+    if is_int(value) and value >= low and (high is None or value <= high):
         return int(value)
     want = f"an integer >= {low}" if high is None else f"an integer in [{low}, {high}]"
     raise ValueError(f"{name}: expected {want}, got {value!r}")
@@ -96,13 +100,11 @@ def _real_array(name: str, value) -> np.ndarray:
         raise ValueError(f"{name}: not a rectangular array ({e})") from None
     if a.dtype.kind not in "fiu":  # complex would lose its imaginary part, objects and strings are no coordinates
         raise ValueError(f"{name}: expected real coordinates, got dtype {a.dtype}")
-    b = a.astype(np.float64)
     # longdouble, or integers beyond 2^53: converting must not move a coordinate (the queries'
-    # answers are exact for the doubles they get)
-    if a.dtype.itemsize > 4 and a.dtype != np.float64 and not np.array_equal(b.astype(a.dtype), a, equal_nan=True):
-        raise ValueError(f"{name}: some {a.dtype} coordinates are not exactly float64 (rounding would move them); "
-                         "pass float64")
-    return b
+    # answers are exact for the doubles they get); the API's own conversion
+    from conecull._api import _as_float64
+
+    return _as_float64(a, name)
 
 
 def _first_non_finite(a: np.ndarray) -> str:

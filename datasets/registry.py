@@ -148,11 +148,9 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     frames_given = frames is not None  # a size error names what the caller chose (the CLI sets no frame count)
     frames = count("frames", scene.default_frames if frames is None else frames, 1)
     path = cache_dir() / f"{name}-{_key(scene, resolution, frames)}.npz"
-    if path.exists():
+    if path.exists():  # finite: checked before it was written (the key changes with the code)
         with np.load(path) as z:
-            F, P = z["faces"], z["positions"]
-        if np.isfinite(P).all():  # else a file from before a fix: generate it again
-            return F, P
+            return z["faces"], z["positions"]
     try:
         n_triangles = scene.triangles(resolution)
     except ValueError as e:

@@ -15,4 +15,6 @@ from hypothesis import settings  # noqa: E402
 
 settings.register_profile("conecull", print_blob=True)
 settings.register_profile("conecull-ci", print_blob=True, derandomize=True, database=None)
-settings.load_profile("conecull-ci" if os.environ.get("CONECULL_CI") or os.environ.get("CI") else "conecull")
+from shared_data import in_ci  # noqa: E402
+
+settings.load_profile("conecull-ci" if in_ci() else "conecull")

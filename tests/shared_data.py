@@ -33,17 +33,13 @@ def _missing(path: Path) -> str:
 
 def in_ci() -> bool:
     """CI (`.ci/run` sets CONECULL_CI=1): everything optional must be present and run."""
-    return _required()
-
-
-def _required() -> bool:
     return bool(os.environ.get("CONECULL_CI") or os.environ.get("CI"))
 
 
 def require(path: Path) -> Path:
     """Inside a test: the path, or skip (an error where the data is required)."""
     if not path.exists():
-        if _required():
+        if in_ci():
             raise RuntimeError(_missing(path))
         pytest.skip(_missing(path))
     return path
@@ -54,7 +50,7 @@ def import_or_skip(module: str, reason: str):
     try:
         return __import__(module, fromlist=["_"])
     except ImportError:
-        if _required():
+        if in_ci():
             raise RuntimeError(f"{module} is required in CI: {reason}")
         pytest.skip(f"{module} not installed: {reason}")
 
@@ -65,7 +61,7 @@ def params(items, ids, path: Path, arity: int = 1):
     data is required, runs; such a test starts with require(path), which then fails."""
     if path.exists():
         return [pytest.param(*(x if arity > 1 else (x,)), id=i) for x, i in zip(items, ids)]
-    marks = () if _required() else pytest.mark.skip(reason=_missing(path))
+    marks = () if in_ci() else pytest.mark.skip(reason=_missing(path))
     return [pytest.param(*([None] * arity), id="absent", marks=marks)]
 
 

@@ -8,16 +8,14 @@ import socket
 
 import numpy as np
 
+from conecull.datasets.checks import is_int
+
 MAX_DEPTH = 64
-
-
-def _is_int(value) -> bool:
-    return not isinstance(value, (bool, np.bool_)) and isinstance(value, (int, np.integer))
 
 
 def check_depth(value, name: str = "bvh_depth") -> int:
     """The BVH depth whose boxes are drawn."""
-    if not _is_int(value) or not 0 <= value <= MAX_DEPTH:
+    if not is_int(value) or not 0 <= value <= MAX_DEPTH:
         raise ValueError(f"{name}: expected a BVH depth in [0, {MAX_DEPTH}], got {value!r}")
     return int(value)
 
@@ -66,7 +64,7 @@ def check_frame_range(value, n_frames: int, name: str = "frame_range") -> range 
     if not ks:
         raise ValueError(f"{name}: selects no frame; {have}")
     for k in ks:
-        if not _is_int(k):
+        if not is_int(k):
             raise ValueError(f"{name}: expected integer frame indices, got {k!r}")
         if not 0 <= k < n_frames:
             raise ValueError(f"{name}: frame {k} is out of range: {have}")
@@ -77,7 +75,7 @@ def check_node(value, n_nodes: int, name: str = "node") -> int:
     """A BVH node id of a collider that has n_nodes nodes."""
     if n_nodes == 0:
         raise ValueError(f"{name}: the collider has no BVH yet: run a query (col.dcd(V)) first")
-    if not _is_int(value):
+    if not is_int(value):
         raise ValueError(f"{name}: expected an integer node id in 0..{n_nodes - 1}, got {value!r}")
     if not 0 <= value < n_nodes:
         raise ValueError(f"{name}: {value} is out of range: the BVH has nodes 0..{n_nodes - 1}")
@@ -87,7 +85,7 @@ def check_node(value, n_nodes: int, name: str = "node") -> int:
 def check_host_port(host, port, host_name: str = "host", port_name: str = "port") -> None:
     """Refuse, before the viewer starts, what it cannot serve: its server starts in a thread
     that on such an error dies or retries for ever, while the caller waits for it."""
-    if not _is_int(port) or not 0 <= port <= 65535:
+    if not is_int(port) or not 0 <= port <= 65535:
         raise ValueError(f"{port_name}: expected a TCP port in [0, 65535] (0: any free one), got {port!r}")
     if not isinstance(host, str) or not host:
         raise ValueError(f"{host_name}: expected a host name or IP address, got {host!r}")

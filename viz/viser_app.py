@@ -76,7 +76,7 @@ class ViewerApp:
         check_method(method)
         self.frames = checks.frames("frames", frames)
         mesh = conecull.Mesh(faces, n_vertices=self.frames.shape[1])
-        self.faces = mesh.faces.astype(np.int64)
+        self.faces = mesh.faces  # int64
         check_host_port(host, port)  # before the work below: viser hangs on what it cannot bind
         self.host = host
         self.colliders = {}

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 
 from ports import free_port
+from shared_data import in_ci
 
-IN_CI = bool(os.environ.get("CONECULL_CI") or os.environ.get("CI"))  # .ci/run sets CONECULL_CI=1
+IN_CI = in_ci()
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 if not CHROMIUM:
     if IN_CI:
