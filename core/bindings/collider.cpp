@@ -5,6 +5,7 @@
 
 #include "conecull/collider.hpp"
 #include "conecull/contour/contour_test.hpp"
+#include "conecull/parallel.hpp"
 #include "stages.hpp"
 
 namespace conecull::bind {
@@ -105,6 +106,13 @@ void check_threads(int threads) {
                               std::to_string(threads));
 }
 
+// A multi-threaded query wakes the pool's helpers before it checks its input, which takes tens
+// of microseconds on a large mesh: they are then spinning when its first region, the refit,
+// opens (parallel.hpp, ThreadPool::prewake). Traced queries run on one thread.
+void prewake(const PyCollider& self, bool trace, int threads) {
+    if (!trace) ThreadPool::instance().prewake(threads > 0 ? threads : self.collider.threads());
+}
+
 Arithmetic parse_arithmetic(const std::string& s) {
     if (s == "float") return Arithmetic::kFloat;
     if (s == "conservative") return Arithmetic::kConservative;
@@ -150,8 +158,9 @@ void bind_collider(py::module_& m) {
         .def(
             "dcd",
             [](PyCollider& self, const F64Array& V, bool trace, int threads, bool stop_at_first) {
-                require_points(V, "V", self.collider.topology().n_vertices, 3);
                 check_threads(threads);
+                prewake(self, trace, threads);
+                require_points(V, "V", self.collider.topology().n_vertices, 3);
                 DcdResult res;
                 RecordingTracer tracer;
                 {
@@ -178,6 +187,7 @@ void bind_collider(py::module_& m) {
                bool toi, int threads) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
+                prewake(self, trace, threads);
                 require_points(V0, "V0", n, 3);
                 require_points(V1, "V1", n, 3);
                 const Arithmetic mode = parse_arithmetic(arithmetic);

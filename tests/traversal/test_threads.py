@@ -147,3 +147,42 @@ def test_refit_identical_for_any_thread_count():
         if ref is None:
             ref = got
         assert all(np.array_equal(a, b) for a, b in zip(ref, got)), threads
+
+
+def test_queries_after_idle_gaps_and_from_two_threads():
+    """A multi-threaded query wakes the pool's helpers before checking its input (prewake): a
+    helper woken with no region to join spins, then sleeps again. After idle gaps long enough
+    for the helpers to fall asleep (5 ms; they spin 0.2 ms), between queries that wake them
+    with and without work to join (a traced query runs on one thread, a bad input raises after
+    the wake-up), and with two Python threads querying at once, every answer is the one-thread
+    answer. Run in a thread with a time limit, so that a lost wake-up fails instead of hanging."""
+    import threading
+    import time
+
+    F, frames = sequences()["folding_sheet"]
+    mesh = conecull.Mesh(F)
+    one = conecull.SelfCollider(mesh, method="nc", threads=1)  # its BVH is built from frames[-3], as theirs
+    ref = [one.dcd(V) for V in frames[-3:]]
+    errors = []
+
+    def run(col):
+        try:
+            for _ in range(4):
+                for V, r in zip(frames[-3:], ref):
+                    time.sleep(0.005)
+                    got = col.dcd(V, threads=2)
+                    assert np.array_equal(got.pairs, r.pairs) and counters(got.stats) == counters(r.stats)
+                    col.dcd(V, trace=True, threads=2)
+                    with pytest.raises(ValueError, match="V"):
+                        col.dcd(V[:-1], threads=2)
+        except BaseException as e:  # noqa: BLE001 - reported by the main thread
+            errors.append(e)
+
+    workers = [threading.Thread(target=run, args=(conecull.SelfCollider(mesh, method="nc", threads=2),))
+               for _ in range(2)]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join(timeout=120)
+    assert not any(w.is_alive() for w in workers), "a query did not return within 120 s"
+    assert not errors, errors[0]
