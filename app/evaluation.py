@@ -414,7 +414,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
             t = time.perf_counter()
             dres = col.dcd(V1)
             ours_dcd.append(time.perf_counter() - t)
-            # the same question as has_intersections: stop at the first colliding pair
+            # the same question as has_intersections: stop at a colliding pair
             t = time.perf_counter()
             fres = col.dcd(V1, stop_at_first=True)
             ours_first.append(time.perf_counter() - t)

@@ -179,8 +179,8 @@ void bind_collider(py::module_& m) {
             },
             py::arg("V"), py::arg("trace") = false, py::arg("threads") = 0, py::arg("stop_at_first") = false,
             "DCD query on positions V (n, 3) float64: returns (pairs (k, 2) int64, stats dict, trace dict or None).\n"
-            "threads: 0 for the collider's default; the results do not depend on it. stop_at_first: stop the\n"
-            "elementary tests at the first colliding pair in traversal order (pairs: it, or none).")
+            "threads: 0 for the collider's default; the results do not depend on it. stop_at_first: stop at a\n"
+            "colliding pair (pairs: it, or none); see SelfCollider.dcd for which one.")
         .def(
             "ccd",
             [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace,

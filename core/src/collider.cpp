@@ -160,8 +160,8 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     };
     if constexpr (!kTraceHooks<Tracer>) {
         if (stop_at_first && (method_ == Method::kAabb || method_ == Method::kNc)) {
-            // Without a front to keep complete, the traversal itself stops at the first hit
-            // (parallel_self_collide.hpp). A traced query keeps the full traversal (its events
+            // Without a front to keep complete, the traversal itself stops at the first hit in
+            // first-hit order (parallel_self_collide.hpp). A traced query keeps the full traversal (its events
             // are those of the full query up to the hit), as do the front methods (their front
             // must stay whole) and the sct / cbc baselines (one thread, the full traversal).
             const auto t0 = Clock::now();

@@ -64,9 +64,11 @@ class SelfCollider {
     // built from the first pose given. With a tracer, the query's events are appended to it.
     // threads: this query's thread count, <= 0 for the collider's default. Results and counters
     // are the same for any thread count; a traced query runs on one thread (events in order).
-    // stop_at_first: the elementary tests stop at the first colliding candidate in traversal
-    // order ("is this pose intersection-free?"): res.pairs holds it, or nothing, and
-    // stats.elementary_tests counts the tests up to it (the same for any thread count).
+    // stop_at_first: the query stops at a colliding candidate ("is this pose
+    // intersection-free?"): res.pairs holds it, or nothing, and stats.elementary_tests counts the
+    // tests up to it (the same for any thread count). aabb and nc stop traversing there too and
+    // visit the top of the BVTT in first_hit_order (parallel_self_collide.hpp); the others
+    // traverse fully and stop at the first colliding candidate in traversal order.
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0, bool stop_at_first = false);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6).

@@ -244,12 +244,14 @@ class SelfCollider:
     def dcd(self, V, trace: bool = False, threads: int | None = None, stop_at_first: bool = False) -> DcdResult:
         """Discrete self-collision query at positions V (n, 3); trace=True also records its events.
         threads: this query's thread count (None: the collider's).
-        stop_at_first=True answers "is this pose intersection-free?": the query stops at the first
-        colliding pair in traversal order, which `pairs` then holds (else it is empty);
-        stats["elementary_tests"] counts the tests up to it. With "aabb" and "nc" the traversal
-        stops there too (its counters include the rest of the block of tasks that found the hit);
-        the front methods traverse fully (their front stays complete), as do "sct", "cbc" and
-        traced queries. The answer and every counter are the same for any thread count."""
+        stop_at_first=True answers "is this pose intersection-free?": the query stops at a colliding
+        pair, which `pairs` then holds (else it is empty); stats["elementary_tests"] counts the tests
+        up to it. With "aabb" and "nc" the traversal stops there too (its counters include the rest
+        of the block of tasks that found the hit), and the top of the BVTT is visited in traversal
+        order and distant-first order taking turns, so the pair is not always the full query's first
+        one; the front methods traverse fully (their front stays complete), as do "sct", "cbc" and
+        traced queries, and return the first colliding candidate in traversal order. The answer and
+        every counter are the same for any thread count."""
         if not isinstance(trace, (bool, np.bool_)):
             raise ValueError(f"trace: expected True or False, got {trace!r}")
         if not isinstance(stop_at_first, (bool, np.bool_)):
