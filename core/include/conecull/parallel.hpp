@@ -8,8 +8,8 @@
 // The helpers are a process-wide pool, started on first use. A region never waits for a helper
 // that has not started on it: the caller works through the chunks too, then closes the region
 // and waits only for the helpers that joined. On a busy machine a helper that is not scheduled
-// in time costs nothing (the caller does its share), and a forked child, whose pool threads are
-// gone, simply runs serially.
+// in time costs nothing (the caller does its share). A forked child gets a fresh pool: it has
+// none of the parent's threads, and a mutex one of them held at the fork would stay locked.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +20,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <pthread.h>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -51,8 +52,15 @@ bool spin_until(const Ready& ready, std::chrono::microseconds limit) {
 class ThreadPool {
    public:
     static ThreadPool& instance() {
-        static ThreadPool* pool = new ThreadPool;  // never destroyed: its threads are detached
-        return *pool;
+        static const bool registered = [] {
+            current() = new ThreadPool;  // never destroyed: its threads are detached
+            // In a forked child (one thread, the forking one) the parent's pool is abandoned as it
+            // is, its mutexes perhaps locked by helpers that do not exist there.
+            pthread_atfork(nullptr, nullptr, [] { current() = new ThreadPool; });
+            return true;
+        }();
+        (void)registered;
+        return *current();
     }
 
     // work(worker) on the caller (worker 0) and on up to n_workers - 1 helpers (workers 1, ...);
@@ -96,6 +104,8 @@ class ThreadPool {
     // and in 9 of 112 refits not at all), and the caller sweeps alone meanwhile.
     void prewake(int n_workers) {
         if (n_workers <= 1) return;
+        std::unique_lock<std::mutex> busy(busy_, std::try_to_lock);
+        if (!busy.owns_lock()) return;  // a region is running: its helpers are awake
         grow(n_workers - 1);
         {
             std::lock_guard<std::mutex> lock(mutex_);
@@ -105,6 +115,11 @@ class ThreadPool {
     }
 
    private:
+    static ThreadPool*& current() {
+        static ThreadPool* pool = nullptr;
+        return pool;
+    }
+
     // How long an idle helper spins before it sleeps. A query runs several regions separated by
     // short serial steps, and waking a sleeping thread costs tens of microseconds, more in a VM
     // whose idle vCPU halts (measured here: median 22 us after 1 ms asleep, 62 us after 10 ms,
