@@ -230,6 +230,41 @@ def test_queries_release_the_gil():
     assert longest < query / 2, f"the main thread paused {longest * 1e3:.1f} ms during {query * 1e3:.1f} ms queries"
 
 
+DAEMON_SCRIPT = r"""
+import sys, threading, time
+import numpy as np
+import conecull
+from conecull.datasets.generated import grid_sheet
+F, V = grid_sheet(120, 120)
+col = conecull.SelfCollider(conecull.Mesh(F), method="nc", threads=int(sys.argv[1]))
+W = np.stack([V, V + 1e-3])
+def busy():
+    while True:
+        col.dcd(V)
+        col.ccd(W[0], W[1])
+        conecull.Mesh(F)
+        conecull.vertex_face_ccd(*([np.zeros(3)] * 8))
+for _ in range(2):
+    threading.Thread(target=busy, daemon=True).start()
+time.sleep(0.3)
+"""
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_interpreter_exits_while_daemon_threads_query(threads):
+    """Python ends daemon threads at exit as they take the GIL back; one ending inside a query (its
+    GIL release and retake) must end quietly. With py::gil_scoped_release, whose destructor takes
+    the GIL back, the process aborted ("terminate called without an active exception", 5 of 5
+    runs): the thread's exit unwinds, and unwinding out of a destructor terminates."""
+    import subprocess
+    import sys
+
+    for _ in range(3):
+        out = subprocess.run([sys.executable, "-c", DAEMON_SCRIPT, str(threads)], capture_output=True, text=True,
+                             timeout=300)
+        assert out.returncode == 0 and "terminate" not in out.stderr, (out.returncode, out.stderr[-2000:])
+
+
 def test_mesh_and_results_pickle_a_collider_refuses():
     import copy
     import pickle

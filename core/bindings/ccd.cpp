@@ -25,12 +25,12 @@ py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], F
     const py::ssize_t k = x[0].shape(0);
     for (int i = 1; i < 8; ++i) require_points(x[i], names[i], k, 3);
     py::array_t<bool> out(k);
-    {
-        py::gil_scoped_release release;
+    bool* o = out.mutable_data();  // taken with the GIL held
+    without_gil([&] {
         for (py::ssize_t i = 0; i < k; ++i)
-            out.mutable_data()[i] = fn(row(x[0], i), row(x[1], i), row(x[2], i), row(x[3], i), row(x[4], i),
-                                       row(x[5], i), row(x[6], i), row(x[7], i));
-    }
+            o[i] = fn(row(x[0], i), row(x[1], i), row(x[2], i), row(x[3], i), row(x[4], i), row(x[5], i), row(x[6], i),
+                      row(x[7], i));
+    });
     return out;
 }
 

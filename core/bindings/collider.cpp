@@ -163,11 +163,10 @@ void bind_collider(py::module_& m) {
                 require_points(V, "V", self.collider.topology().n_vertices, 3);
                 DcdResult res;
                 RecordingTracer tracer;
-                {
-                    py::gil_scoped_release release;
+                without_gil([&] {
                     std::lock_guard<std::mutex> lock(self.mutex);
                     res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads, stop_at_first);
-                }
+                });
                 py::array_t<int64_t> pairs({static_cast<py::ssize_t>(res.pairs.size()), py::ssize_t(2)});
                 int64_t* p = pairs.mutable_data();
                 for (size_t i = 0; i < res.pairs.size(); ++i) {
@@ -193,11 +192,10 @@ void bind_collider(py::module_& m) {
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
                 RecordingTracer tracer;
-                {
-                    py::gil_scoped_release release;
+                without_gil([&] {
                     std::lock_guard<std::mutex> lock(self.mutex);
                     res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads);
-                }
+                });
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
                 st["vf_candidates"] = c.vf_candidates;

@@ -42,10 +42,7 @@ void bind_mesh(py::module_& m) {
                 if (f[3 * i] == f[3 * i + 1] || f[3 * i + 1] == f[3 * i + 2] || f[3 * i] == f[3 * i + 2])
                     throw py::value_error("faces: row " + std::to_string(i) + " repeats a vertex");
             std::shared_ptr<Topology> t;
-            {
-                py::gil_scoped_release release;
-                t = std::make_shared<Topology>(build_topology(f, m, static_cast<int32_t>(n_vertices)));
-            }
+            without_gil([&] { t = std::make_shared<Topology>(build_topology(f, m, static_cast<int32_t>(n_vertices))); });
             return t;
         },
         py::arg("faces"), py::arg("n_vertices"),
