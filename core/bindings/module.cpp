@@ -13,6 +13,7 @@ void bind_contour(py::module_& m);
 void bind_elementary(py::module_& m);
 void bind_collider(py::module_& m);
 void bind_ccd(py::module_& m);
+void bind_traversal(py::module_& m);
 }  // namespace conecull::bind
 
 #ifndef CONECULL_MODULE_NAME
@@ -34,5 +35,7 @@ PYBIND11_MODULE(CONECULL_MODULE_NAME, m) {
     bind_elementary(elementary);
     auto ccd = m.def_submodule("ccd", "Continuous collision detection: cones and Alg. 3");
     bind_ccd(ccd);
+    auto traversal = m.def_submodule("traversal", "BVTT traversal (Alg. 2, 4): the first-hit order");
+    bind_traversal(traversal);
     bind_collider(m);
 }

@@ -250,8 +250,9 @@ class SelfCollider:
         of the block of tasks that found the hit), and the top of the BVTT is visited in traversal
         order and distant-first order taking turns, so the pair is not always the full query's first
         one; the front methods traverse fully (their front stays complete), as do "sct", "cbc" and
-        traced queries, and return the first colliding candidate in traversal order. The answer and
-        every counter are the same for any thread count."""
+        traced queries, and return the first colliding candidate in traversal order (so with "aabb"
+        and "nc", trace=True may give another pair and count than the untraced query). The answer
+        and every counter are the same for any thread count."""
         if not isinstance(trace, (bool, np.bool_)):
             raise ValueError(f"trace: expected True or False, got {trace!r}")
         if not isinstance(stop_at_first, (bool, np.bool_)):

@@ -178,7 +178,8 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
     if (front) front->finish_query(stats);
 }
 
-// The first colliding candidate in traversal order, and the candidates tested up to it.
+// The first colliding candidate in the order the tasks were visited (first_hit_order), and the
+// candidates tested up to it.
 struct FirstHit {
     bool found = false;
     TrianglePair pair{};
