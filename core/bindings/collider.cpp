@@ -183,7 +183,7 @@ void bind_collider(py::module_& m) {
         .def(
             "ccd",
             [](PyCollider& self, const F64Array& V0, const F64Array& V1, const std::string& arithmetic, bool trace,
-               bool toi, int threads) {
+               bool toi, int threads, bool stop_at_first) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
                 prewake(self, trace, threads);
@@ -194,7 +194,8 @@ void bind_collider(py::module_& m) {
                 RecordingTracer tracer;
                 without_gil([&] {
                     std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads);
+                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads,
+                                            stop_at_first);
                 });
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
@@ -221,8 +222,9 @@ void bind_collider(py::module_& m) {
                 return py::make_tuple(pair_rows(res.vf), pair_rows(res.ee), st, tr, t);
             },
             py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false, py::arg("toi") = false,
-            py::arg("threads") = 0,
-            "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None).")
+            py::arg("threads") = 0, py::arg("stop_at_first") = false,
+            "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None, toi or None).\n"
+            "stop_at_first: stop the VF / EE tests at the first contact in test order (vf or ee: it, or none).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def_property_readonly("threads", [](PyCollider& self) { return self.collider.threads(); })

@@ -279,7 +279,7 @@ bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
 }  // namespace
 
 CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer,
-                            bool want_toi, int threads) {
+                            bool want_toi, int threads, bool stop_at_first) {
     // [SPO10]'s star-contour test is a DCD test; Sec. 3.2: "It is not clear whether the linear
     // time algorithm for contour test in [SPO10] extends to CCD". The CCD baseline is "cbc".
     if (method_ == Method::kSct)
@@ -292,7 +292,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
     else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
-    with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res); });
+    with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res, stop_at_first); });
     if (want_toi) {
         const int32_t* F = topo_->faces.data();
         const int32_t* E = topo_->edges.data();
@@ -317,7 +317,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
 
 template <class Tracer>
 void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer,
-                                         CcdResult& res) {
+                                         CcdResult& res, bool stop_at_first) {
     CcdStats& st = res.stats;
     auto t0 = Clock::now();
     traverse(Continuous{V0, V1}, tracer, st);
@@ -450,15 +450,27 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     const int64_t n_vf = static_cast<int64_t>(vf_keys.size());
     const Chunks keys(n_vf + static_cast<int64_t>(ee_keys.size()), threads, 64);
     std::vector<ChunkOut> outs(keys.count);
+    // stop_at_first: a chunk stops at its first contact, and a chunk after one known to hold a
+    // contact is skipped. Every chunk before the first with a contact runs to its end, so the
+    // chunks up to that one hold exactly the tests up to the first contact in key order, whatever
+    // the chunking; later chunks, run or not depending on timing, are left out of the result.
+    std::atomic<int64_t> first_hit{keys.count};
     parallel_chunks(keys.count, threads, [&](int64_t k, int) {
+        if (stop_at_first && k > first_hit.load(std::memory_order_relaxed)) return;
         ChunkOut& out = outs[k];
         exact_path_counts() = {};
         for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
             if (i < n_vf) test_vf(vf_keys[i], out);
             else test_ee(ee_keys[i - n_vf], out);
+            if (stop_at_first && (!out.vf.empty() || !out.ee.empty())) {
+                for (int64_t seen = first_hit.load(); k < seen && !first_hit.compare_exchange_weak(seen, k);) {
+                }
+                break;
+            }
         }
         out.exact = exact_path_counts();
     });
+    if (stop_at_first && first_hit.load() < keys.count) outs.resize(static_cast<size_t>(first_hit.load()) + 1);
     st.exact_paths = {};
     for (const ChunkOut& out : outs) {
         res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());

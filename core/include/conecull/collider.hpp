@@ -71,9 +71,13 @@ class SelfCollider {
     // traverse fully and stop at the first colliding candidate in traversal order.
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0, bool stop_at_first = false);
 
-    // Continuous query over one linear step V0 -> V1 (Sec. 3.6).
+    // Continuous query over one linear step V0 -> V1 (Sec. 3.6). stop_at_first ("is this step
+    // collision-free?"): the VF / EE tests stop at the first contact in test order (the VF pairs,
+    // then the EE pairs, as the full query tests them): res holds it, or nothing, and the test
+    // counters count the tests up to it (the same for any thread count). The traversal and the
+    // pair generation run in full (a front method's front stays complete).
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
-                  bool want_toi = false, int threads = 0);
+                  bool want_toi = false, int threads = 0, bool stop_at_first = false);
 
     bool built() const { return built_; }
     Method method() const { return method_; }
@@ -92,7 +96,8 @@ class SelfCollider {
     template <class Tracer>
     void traverse_and_test(const double* V, Tracer& tracer, DcdResult& res, bool stop_at_first);
     template <class Tracer>
-    void ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer, CcdResult& res);
+    void ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer, CcdResult& res,
+                               bool stop_at_first);
 
     std::shared_ptr<const Topology> topo_;
     Method method_;

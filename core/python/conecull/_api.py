@@ -264,23 +264,28 @@ class SelfCollider:
                          collider=weakref.ref(self))
 
     def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False,
-            threads: int | None = None) -> CcdResult:
+            threads: int | None = None, stop_at_first: bool = False) -> CcdResult:
         """Continuous query: every vertex moves linearly from V0 to V1 over t in [0, 1].
 
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
         threads: this query's thread count (None: the collider's).
+        stop_at_first=True answers "is this step collision-free?": the VF / EE tests stop at the
+        first contact in test order (the VF pairs, then the EE pairs), which `vf` or `ee` then
+        holds (both empty: none); the test counters count the tests up to it. The traversal and
+        the pair generation run in full. The answer and every counter are the same for any
+        thread count.
         """
         if self.method not in CCD_METHODS:
             raise ValueError(f"method: {self.method!r} is a discrete (DCD) method; CCD queries need one of {CCD_METHODS}")
         _check_arithmetic(arithmetic)
         t = _as_threads(threads)
-        for name, flag in (("trace", trace), ("toi", toi)):
+        for name, flag in (("trace", trace), ("toi", toi), ("stop_at_first", stop_at_first)):
             if not isinstance(flag, (bool, np.bool_)):
                 raise ValueError(f"{name}: expected True or False, got {flag!r}")
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
-        vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t)
+        vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t, bool(stop_at_first))
         return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=Trace(raw) if raw is not None else None,
                          collider=weakref.ref(self))
 
