@@ -82,3 +82,39 @@ def test_steps_cover_both_answers():
     """The steps above hold steps with contacts (in every arithmetic) and one without."""
     with_contact = {name for name, F, V0, V1 in STEPS if any(brute_force_ccd(F, V0, V1, "exact"))}
     assert len(with_contact) >= 3 and len(with_contact) < len(STEPS), with_contact
+
+
+def late_hit_steps():
+    """Steps whose first contact comes after many chunks of tests (the steps above hit within
+    their first ~150 keys): the folding sheet's step 5 -> 6 (with nc, its first contact after
+    ~740 of 16781 tests; cbc 311), and its contact-free step 4 -> 5 with one vertex pushed
+    through the other layer (after ~590 of ~3000 tests)."""
+    from thread_cases import sequences
+
+    F, P = sequences()["folding_sheet"]
+    V1 = P[5].copy()
+    V1[-1, 2] -= 0.2 * np.ptp(P[4], axis=0).max()
+    return [("fold 5-6", F, P[5], P[6]), ("fold 4-5 pushed", F, P[4], V1)]
+
+
+@pytest.mark.parametrize("arithmetic", ["conservative", "exact"])
+def test_ccd_first_hit_in_a_late_chunk(arithmetic):
+    """With 2, 3 and 7 threads the first contact lies in a late chunk, where chunks after it may
+    find their own contacts first (and are dropped): the same contact and counters as one
+    thread and as the full traced query."""
+    for step, F, V0, V1 in late_hit_steps():
+        mesh = conecull.Mesh(F, n_vertices=len(V0))
+        for method in conecull.CCD_METHODS:
+            full = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True)
+            expect, tests = first_traced_contact(full.trace)
+            total = full.stats["vf_tests"] + full.stats["ee_tests"]
+            # chunks hold at least 64 keys (Chunks' grain): the hit is past the first four
+            assert expect is not None and tests > 4 * 64, (step, method, tests, total)
+            ref = None
+            for threads in THREADS:
+                res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
+                                                                     stop_at_first=True)
+                got = [("vf", tuple(p)) for p in res.vf.tolist()] + [("ee", tuple(p)) for p in res.ee.tolist()]
+                assert got == [expect] and res.stats["vf_tests"] + res.stats["ee_tests"] == tests, (step, method, threads)
+                ref = ref or counters(res.stats)
+                assert counters(res.stats) == ref, (step, method, threads)
