@@ -161,9 +161,10 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     if constexpr (!kTraceHooks<Tracer>) {
         if (stop_at_first && (method_ == Method::kAabb || method_ == Method::kNc)) {
             // Without a front to keep complete, the traversal itself stops at the first hit in
-            // first-hit order (parallel_self_collide.hpp). A traced query keeps the full traversal (its events
-            // are those of the full query up to the hit), as do the front methods (their front
-            // must stay whole) and the sct / cbc baselines (one thread, the full traversal).
+            // first-hit order (parallel_self_collide.hpp). A traced query keeps the full traversal
+            // (its events are those of the full query up to the hit), as do the front methods
+            // (their front must stay whole) and the sct / cbc baselines (one thread, the full
+            // traversal).
             const auto t0 = Clock::now();
             const auto run = [&](auto cones) {
                 constexpr bool kCones = decltype(cones)::value;
@@ -199,13 +200,12 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     const CandidateList& candidates = candidate_list_;
     const Chunks ch(candidates.size(), query_threads_, 512);
     if (stop_at_first) {
-        // The first colliding candidate in traversal order. A chunk after one that has a hit is
-        // skipped; every chunk before the final first one has run to its end, so the answer and
-        // the count of tests up to it do not depend on the threads.
-        std::atomic<int64_t> first{ch.count};
+        // The first colliding candidate in traversal order (FirstHitChunk: the answer and the
+        // count of tests up to it do not depend on the threads).
+        FirstHitChunk first(ch.count);
         std::vector<std::pair<int64_t, TrianglePair>> hit_of(ch.count, {-1, {}});
         parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
-            if (k > first.load(std::memory_order_relaxed)) return;
+            if (first.skip(k)) return;
             TrianglePair hit{};
             const int64_t i = candidates.find_in_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
                 hit = c;
@@ -213,10 +213,9 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             }, ahead);
             if (i == ch.end(k)) return;
             hit_of[k] = {i, hit};
-            for (int64_t f = first.load(); k < f && !first.compare_exchange_weak(f, k);) {
-            }
+            first.found(k);
         });
-        const int64_t k = first.load();
+        const int64_t k = first.get();
         if (k < ch.count) res.pairs.push_back(hit_of[k].second);
         st.elementary_tests = k < ch.count ? hit_of[k].first + 1 : candidates.size();
         st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
@@ -450,27 +449,25 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     const int64_t n_vf = static_cast<int64_t>(vf_keys.size());
     const Chunks keys(n_vf + static_cast<int64_t>(ee_keys.size()), threads, 64);
     std::vector<ChunkOut> outs(keys.count);
-    // stop_at_first: a chunk stops at its first contact, and a chunk after one known to hold a
-    // contact is skipped. Every chunk before the first with a contact runs to its end, so the
-    // chunks up to that one hold exactly the tests up to the first contact in key order, whatever
+    // stop_at_first: a chunk stops at its first contact (FirstHitChunk), so the chunks up to the
+    // first with a contact hold exactly the tests up to the first contact in key order, whatever
     // the chunking; later chunks, run or not depending on timing, are left out of the result.
-    std::atomic<int64_t> first_hit{keys.count};
+    FirstHitChunk first_hit(keys.count);
     parallel_chunks(keys.count, threads, [&](int64_t k, int) {
-        if (stop_at_first && k > first_hit.load(std::memory_order_relaxed)) return;
+        if (stop_at_first && first_hit.skip(k)) return;
         ChunkOut& out = outs[k];
         exact_path_counts() = {};
         for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
             if (i < n_vf) test_vf(vf_keys[i], out);
             else test_ee(ee_keys[i - n_vf], out);
             if (stop_at_first && (!out.vf.empty() || !out.ee.empty())) {
-                for (int64_t seen = first_hit.load(); k < seen && !first_hit.compare_exchange_weak(seen, k);) {
-                }
+                first_hit.found(k);
                 break;
             }
         }
         out.exact = exact_path_counts();
     });
-    if (stop_at_first && first_hit.load() < keys.count) outs.resize(static_cast<size_t>(first_hit.load()) + 1);
+    if (stop_at_first && first_hit.get() < keys.count) outs.resize(static_cast<size_t>(first_hit.get()) + 1);
     st.exact_paths = {};
     for (const ChunkOut& out : outs) {
         res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());

@@ -26,6 +26,10 @@ def first_traced_contact(trace):
     return (kind, tuple(events["pair"][j].tolist())), i + 1
 
 
+def contacts(res):
+    return [("vf", tuple(p)) for p in res.vf.tolist()] + [("ee", tuple(p)) for p in res.ee.tolist()]
+
+
 @pytest.mark.parametrize("step", [s[0] for s in STEPS])
 @pytest.mark.parametrize("arithmetic", ["float", "conservative", "exact"])
 def test_ccd_first_hit_matches_brute_force_and_full_query(step, arithmetic):
@@ -39,7 +43,7 @@ def test_ccd_first_hit_matches_brute_force_and_full_query(step, arithmetic):
         for threads in THREADS:
             res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
                                                                  stop_at_first=True, toi=True)
-            got = [("vf", tuple(p)) for p in res.vf.tolist()] + [("ee", tuple(p)) for p in res.ee.tolist()]
+            got = contacts(res)
             where = (step, arithmetic, method, threads)
             if vf_ref or ee_ref:
                 assert len(got) == 1 and (got[0][1] in (vf_ref if got[0][0] == "vf" else ee_ref)), where
@@ -114,7 +118,7 @@ def test_ccd_first_hit_in_a_late_chunk(arithmetic):
             for threads in THREADS:
                 res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
                                                                      stop_at_first=True)
-                got = [("vf", tuple(p)) for p in res.vf.tolist()] + [("ee", tuple(p)) for p in res.ee.tolist()]
+                got = contacts(res)
                 assert got == [expect] and res.stats["vf_tests"] + res.stats["ee_tests"] == tests, (step, method, threads)
                 ref = ref or counters(res.stats)
                 assert counters(res.stats) == ref, (step, method, threads)

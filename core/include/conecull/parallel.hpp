@@ -222,6 +222,24 @@ void parallel_chunks(int64_t n_chunks, int threads, const Body& body) {
         if (e) std::rethrow_exception(e);
 }
 
+// A region that stops at its first hit in chunk order: the lowest chunk known to hold a hit.
+// A chunk above it is skipped; a chunk below the final value never is (the value only falls),
+// so every chunk before the first chunk with a hit runs to its end, and what the chunks up to
+// it hold does not depend on the threads. Later chunks that ran anyway are to be ignored.
+class FirstHitChunk {
+   public:
+    explicit FirstHitChunk(int64_t none) : k_(none) {}
+    bool skip(int64_t chunk) const { return chunk > k_.load(std::memory_order_relaxed); }
+    void found(int64_t chunk) {
+        for (int64_t k = k_.load(); chunk < k && !k_.compare_exchange_weak(k, chunk);) {
+        }
+    }
+    int64_t get() const { return k_.load(); }
+
+   private:
+    std::atomic<int64_t> k_;
+};
+
 // [0, n) cut into chunks of at least `grain` items (one chunk for one thread), many per thread
 // so that uneven chunks even out: the region ends when its last chunk does, so a thread left
 // with one chunk of 1/16 of the work idles the other for up to that long (the CCD tests' cost
