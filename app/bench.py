@@ -406,3 +406,68 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     return 0
 
 
+
+
+def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
+                        threads: int = 1, skip: str = "") -> int:
+    """The one-bit questions of a simulator's line search, against the full queries that list
+    every collision: "is the end pose intersection-free?" (dcd(V1, stop_at_first=True)) and "is
+    the step collision-free?" (ccd(V0, V1, stop_at_first=True), exact), on the shared real steps
+    and the jittered generated fold step, for nc and nc+front. Each collider first answers the full
+    query once (a front method then starts from its own front); full and first-hit runs take
+    turns; medians. Checked: the first hit is one of the full query's collisions, or there are none."""
+    del n_frames  # single steps
+    unknown = set(filter(None, skip.split(","))) - {"steps"}
+    if unknown:
+        raise ValueError(f"skip: first-hit can leave out 'steps' only, got {sorted(unknown)}")
+    steps = ([] if "steps" in skip.split(",") else shared_steps()) + [_generated_ccd_steps(n_triangles)[1]]
+    print(f"# First hit against the full query: {len(steps)} steps, {repeats} runs (medians), {threads} thread(s), "
+          "CCD in exact arithmetic")
+    print()
+    print("| step | triangles | method | DCD full ms | DCD first-hit ms | DCD tests (full / first-hit) | "
+          "CCD full ms | CCD first-hit ms | CCD pairs made (full / first-hit) | CCD tests (full / first-hit) | "
+          "colliding |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    rows = []
+    for name, F, V0, V1, _, _ in steps:
+        mesh = conecull.Mesh(F, n_vertices=len(V0))
+        for method in ("nc", "nc+front"):
+            col = conecull.SelfCollider(mesh, method=method, threads=threads)
+            col.dcd(V0)
+            col.dcd(V1)
+            col.ccd(V0, V1)
+            t = {"dcd": [], "dcd1": [], "ccd": [], "ccd1": []}
+            for _ in range(repeats):
+                for key, run in (("dcd", lambda: col.dcd(V1)), ("dcd1", lambda: col.dcd(V1, stop_at_first=True)),
+                                 ("ccd", lambda: col.ccd(V0, V1)), ("ccd1", lambda: col.ccd(V0, V1, stop_at_first=True))):
+                    w = time.perf_counter()
+                    res = run()
+                    t[key].append((time.perf_counter() - w, res))
+            d, d1, c, c1 = (t[k][0][1] for k in ("dcd", "dcd1", "ccd", "ccd1"))
+            full_pairs = {tuple(p) for p in d.pairs.tolist()}
+            assert (len(d1.pairs) == 1 and tuple(d1.pairs[0]) in full_pairs) or (len(d1.pairs) == 0 == len(full_pairs)), name
+            hits = [("vf", tuple(p)) for p in c1.vf.tolist()] + [("ee", tuple(p)) for p in c1.ee.tolist()]
+            full_hits = {("vf", tuple(p)) for p in c.vf.tolist()} | {("ee", tuple(p)) for p in c.ee.tolist()}
+            assert (len(hits) == 1 and hits[0] in full_hits) or (not hits and not full_hits), name
+            ms = {k: 1e3 * statistics.median(w for w, _ in v) for k, v in t.items()}
+            pairs = lambda s: s["vf_candidates"] + s["ee_candidates"]  # noqa: E731
+            tests = lambda s: s["vf_tests"] + s["ee_tests"]  # noqa: E731
+            row = {"step": name, "triangles": len(F), "method": method, "dcd_ms": ms["dcd"], "dcd_first_hit_ms": ms["dcd1"],
+                   "dcd_tests": d.stats["elementary_tests"], "dcd_first_hit_tests": d1.stats["elementary_tests"],
+                   "ccd_ms": ms["ccd"], "ccd_first_hit_ms": ms["ccd1"], "ccd_pairs": pairs(c.stats),
+                   "ccd_first_hit_pairs": pairs(c1.stats), "ccd_tests": tests(c.stats),
+                   "ccd_first_hit_tests": tests(c1.stats), "dcd_colliding": len(full_pairs) > 0,
+                   "ccd_colliding": len(full_hits) > 0}
+            rows.append(row)
+            yes = {(True, True): "both", (True, False): "pose", (False, True): "step", (False, False): "neither"}
+            print(f"| {name} | {len(F)} | {method} | {ms['dcd']:.1f} | {ms['dcd1']:.1f} | {row['dcd_tests']} / "
+                  f"{row['dcd_first_hit_tests']} | {ms['ccd']:.1f} | {ms['ccd1']:.1f} | {row['ccd_pairs']} / "
+                  f"{row['ccd_first_hit_pairs']} | {row['ccd_tests']} / {row['ccd_first_hit_tests']} | "
+                  f"{yes[row['dcd_colliding'], row['ccd_colliding']]} |", flush=True)
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "first_hit.json")
+    with open(path, "w") as fh:
+        json.dump({"repeats": repeats, "threads": threads, "rows": rows}, fh, indent=1)
+    print()
+    print(f"(colliding: whether the end pose (DCD) and the step (CCD) have any collision; JSON: {path})")
+    return 0

@@ -58,11 +58,12 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", nargs="?", default="all", choices=["all", "dcd", "trace", "ccd", "contour", "threads"],
+    p.add_argument("suite", nargs="?", default="all", choices=["all", "dcd", "trace", "ccd", "contour", "threads", "first-hit"],
                    help="all (default): the paper's evaluation on our scenes and the shared steps, with report.md, "
                         "PNG plots and JSON; dcd: methods and leaf sizes; trace: tracing overhead; "
                         "ccd: what accuracy costs in time; contour: contour test time, ours vs the sct and cbc "
-                        "baselines (Fig. 9); threads: 1 thread vs --threads")
+                        "baselines (Fig. 9); threads: 1 thread vs --threads; first-hit: stop_at_first against the "
+                        "full DCD and CCD queries on the real steps and the generated fold")
     p.add_argument("--scenes", help="all: comma-separated scenes (default the paper-sized ones: "
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")
     p.add_argument("--resolution", type=int, help="all: the scenes' resolution (default each scene's own)")
@@ -71,14 +72,16 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--from-json", metavar="PAPER_JSON",
                    help="all: re-render the scene tables and plots of a finished run (its paper.json) into --out")
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
-                                  "scenes,steps,ipctk,contour,ccd,scaling,threads")
+                                  "scenes,steps,ipctk,contour,ccd,scaling,threads; first-hit: steps (the shared "
+                                  "real steps)")
     p.add_argument("--triangles", type=int, default=64000,
                    help="triangles of the generated folding sheet the suites query (all: its step in the steps "
                         "table, and the contour, ccd and threads sections) (default 64000)")
     p.add_argument("--frames", type=int, default=8, help="frames per query sequence (all: the last N of each scene)")
     p.add_argument("--repeats", type=int, help="timed runs per frame; medians are reported (default 5; all: 3)")
     p.add_argument("--out", default="bench-results", help="folder for the JSON output")
-    p.add_argument("--threads", type=int, help="threads per query (dcd, ccd: default 1; trace, contour: always 1); "
+    p.add_argument("--threads", type=int, help="threads per query (dcd, ccd, first-hit: default 1; trace, contour: "
+                                               "always 1); "
                                                "the threads suite compares 1 thread with this many (default 2)")
 
     args = parser.parse_args(argv)
@@ -96,7 +99,7 @@ INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames 
 # The library names its Python arguments (load_sequence's positions=, record's frame_range=, ...);
 # the CLI passes its options' values to them, so it names the option the user typed.
 OPTION_OF = {"positions": "--positions", "resolution": "--resolution", "method": "--method",
-             "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth"}
+             "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth", "skip": "--skip"}
 
 
 def _as_option(message: str) -> str:
@@ -199,13 +202,15 @@ def _run(args) -> int:
             return render_from_json(args.from_json, args.out)
         return run_all(args)
     if args.command == "bench":
-        from conecull.app.bench import (run_ccd_bench, run_contour_bench, run_dcd_bench, run_threads_bench,
-                                        run_trace_bench)
+        from conecull.app.bench import (run_ccd_bench, run_contour_bench, run_dcd_bench, run_first_hit_bench,
+                                        run_threads_bench, run_trace_bench)
 
         run = {"dcd": run_dcd_bench, "trace": run_trace_bench, "ccd": run_ccd_bench, "contour": run_contour_bench,
-               "threads": run_threads_bench}[args.suite]
+               "threads": run_threads_bench, "first-hit": run_first_hit_bench}[args.suite]
         # trace and contour always measure one thread (a traced query runs on one)
         extra = {} if args.threads is None or args.suite in ("trace", "contour") else {"threads": args.threads}
+        if args.suite == "first-hit" and args.skip:
+            extra["skip"] = args.skip
         return run(args.triangles, args.frames, 5 if args.repeats is None else args.repeats, args.out, **extra)
     return 2
 

@@ -17,6 +17,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+// What DCD's first-hit traversal keeps per task besides the hit: nothing.
+struct NoTaskOut {};
+
 // Runs `body` with the query's tracer variant, chosen once per query: the recording tracer if
 // one is given (and the build has hooks), else the NullTracer whose hooks compile away.
 template <class Body>
@@ -173,12 +176,13 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
                     return SelfCollideTraversal<kCones, Tracer, Discrete, false>(bvh_, contours_, cones_, motion, tracer,
                                                                                 s, out);
                 };
-                const auto find_hit = [&](const std::vector<TrianglePair>& c) {
+                const auto find_hit = [&](const std::vector<TrianglePair>& c, NoTaskOut&) {
                     CandidateList list;
                     list.set(c);
                     return list.find_in_range(0, list.size(), collide, ahead);
                 };
-                return self_collide_until_first_hit(bvh_, query_threads_, make, find_hit, st, parallel_);
+                std::vector<NoTaskOut> outs;
+                return self_collide_until_first_hit(bvh_, query_threads_, make, find_hit, outs, st, parallel_);
             };
             const FirstHit hit = method_ == Method::kNc ? run(std::true_type{}) : run(std::false_type{});
             candidates_.clear();
@@ -314,17 +318,34 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     return res;
 }
 
+namespace {
+
+// The VF / EE tests of a run of them (a chunk of keys, a chunk of candidates or a first-hit
+// task): contacts and counters, summed in order afterwards.
+struct alignas(64) CcdTally {  // own cache lines: runs side by side run on different threads
+    std::vector<std::pair<int32_t, int32_t>> vf, ee;
+    int64_t vf_candidates = 0, ee_candidates = 0, npf_culled = 0, vf_tests = 0, ee_tests = 0;
+    ExactPathCounts exact;
+};
+
+// A candidate's VF (at most 6) or EE (at most 9) keys, for the first-hit tests.
+struct KeyBuffer {
+    uint64_t key[9];
+    int32_t size = 0;
+    void push_back(uint64_t k) { key[size++] = k; }
+};
+
+}  // namespace
+
 template <class Tracer>
 void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Arithmetic arithmetic, Tracer& tracer,
                                          CcdResult& res, bool stop_at_first) {
     CcdStats& st = res.stats;
+    const int threads = query_threads_;
+    // Low-level culling (Sec. 5.1): every VF / EE pair of the candidate triangle pairs whose
+    // primitives' swept boxes overlap, each once. The boxes first: a first-hit query makes the
+    // pairs of a candidate as soon as the traversal finds it.
     auto t0 = Clock::now();
-    traverse(Continuous{V0, V1}, tracer, st);
-    st.seconds_traversal = seconds_since(t0);
-
-    // Low-level culling: every VF / EE pair of the candidate triangle pairs whose primitives'
-    // swept boxes overlap, each once.
-    t0 = Clock::now();
     const int32_t* F = topo_->faces.data();
     const int32_t* FE = topo_->face_edges.data();
     const int32_t* Ed = topo_->edges.data();
@@ -338,7 +359,6 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             }
         return b;
     };
-    const int threads = query_threads_;
     // The vertices', edges' and faces' boxes as one range: one parallel region.
     const int64_t n_v = topo_->n_vertices, n_e = topo_->n_edges(), n_f = topo_->n_faces();
     vertex_boxes_.resize(n_v);
@@ -367,7 +387,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         edge_owner_.resize(topo_->n_edges());
         for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_owner_[e] = topo_->edge_face_ids[topo_->edge_face_offsets[e]];
     }
-    auto pairs_of = [&](const TrianglePair& c, std::vector<uint64_t>& vf_keys, std::vector<uint64_t>& ee_keys) {
+    double seconds_boxes = seconds_since(t0);
+    auto pairs_of = [&](const TrianglePair& c, auto& vf_keys, auto& ee_keys) {
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
         auto in = [](const int32_t* f, int32_t v) { return f[0] == v || f[1] == v || f[2] == v; };
@@ -391,32 +412,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             }
         }
     };
-    // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
-    // the serial order.
-    const Chunks cand(candidate_list_.size(), threads, 1024);
-    std::vector<Padded<std::vector<uint64_t>>> vf_parts(cand.count), ee_parts(cand.count);
-    parallel_chunks(cand.count, threads, [&](int64_t k, int) {
-        candidate_list_.for_range(cand.begin(k), cand.end(k),
-                                  [&](const TrianglePair& c) { pairs_of(c, vf_parts[k].value, ee_parts[k].value); });
-    });
-    std::vector<uint64_t>& vf_keys = vf_keys_;
-    std::vector<uint64_t>& ee_keys = ee_keys_;
-    concat_in_order(vf_parts, vf_parts.size(), threads, vf_keys);
-    concat_in_order(ee_parts, ee_parts.size(), threads, ee_keys);
-    st.vf_candidates = static_cast<int64_t>(vf_keys.size());
-    st.ee_candidates = static_cast<int64_t>(ee_keys.size());
-    st.seconds_pairs = seconds_since(t0);
-
-    t0 = Clock::now();
-    // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
-    // counters (the exact-path counters are per thread: reset and read around each chunk).
-    struct alignas(64) ChunkOut {  // own cache lines: chunks side by side run on different threads
-        std::vector<std::pair<int32_t, int32_t>> vf, ee;
-        int64_t npf_culled = 0, vf_tests = 0, ee_tests = 0;
-        ExactPathCounts exact;
-    };
     const int32_t* E = topo_->edges.data();
-    auto test_vf = [&](uint64_t key, ChunkOut& out) {
+    auto test_vf = [&](uint64_t key, CcdTally& out) {
         const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t* t = F + 3 * static_cast<size_t>(f);
         const DetRow e0[3] = {{load(V0, t[1]), load(V0, t[0])}, {load(V0, t[2]), load(V0, t[0])}, {load(V0, v), load(V0, t[0])}};
@@ -431,7 +428,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         if constexpr (kTraceHooks<Tracer>) tracer.on_vf(v, f, hit);
         if (hit) out.vf.emplace_back(v, f);
     };
-    auto test_ee = [&](uint64_t key, ChunkOut& out) {
+    auto test_ee = [&](uint64_t key, CcdTally& out) {
         const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
         const DetRow e0[3] = {{load(V0, b), load(V0, a)}, {load(V0, d), load(V0, c)}, {load(V0, c), load(V0, a)}};
@@ -446,48 +443,161 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         if constexpr (kTraceHooks<Tracer>) tracer.on_ee(ea, eb, hit);
         if (hit) out.ee.emplace_back(ea, eb);
     };
+    // The results of runs of tests, in order: contacts and counters (the first-hit query passes
+    // only the runs up to the one with the contact).
+    auto gather = [&](const CcdTally* outs, size_t n) {
+        st.exact_paths = {};
+        for (size_t k = 0; k < n; ++k) {
+            const CcdTally& out = outs[k];
+            res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());
+            res.ee.insert(res.ee.end(), out.ee.begin(), out.ee.end());
+            st.npf_culled += out.npf_culled;
+            st.vf_tests += out.vf_tests;
+            st.ee_tests += out.ee_tests;
+            ExactPathCounts& e = st.exact_paths;
+            e.filtered += out.exact.filtered;
+            e.static_contact += out.exact.static_contact;
+            e.proven_contact += out.exact.proven_contact;
+            e.interval_filtered += out.exact.interval_filtered;
+            e.exact_engine += out.exact.exact_engine;
+        }
+        parallel_sort(res.vf, threads);  // distinct pairs: std::sort's order (parallel.hpp)
+        parallel_sort(res.ee, threads);
+        st.elementary_tests = st.vf_tests + st.ee_tests;
+        st.vf_contacts = static_cast<int64_t>(res.vf.size());
+        st.ee_contacts = static_cast<int64_t>(res.ee.size());
+        st.colliding_pairs = st.vf_contacts + st.ee_contacts;
+    };
+
+    if (stop_at_first) {
+        // "Is this step collision-free?": a candidate's VF then EE pairs are made and tested as
+        // soon as it is reached, up to the first contact; the pairs of the candidates after it
+        // are never made. Test order: the candidates in traversal order (aabb / nc: the tasks in
+        // first-hit order, as dcd), each candidate's VF pairs, then its EE pairs. The exact-path
+        // counters are per thread: reset and read around each run.
+        auto first_contact = [&](const TrianglePair& c, CcdTally& out) {
+            KeyBuffer vf, ee;
+            pairs_of(c, vf, ee);
+            out.vf_candidates += vf.size;
+            out.ee_candidates += ee.size;
+            for (int32_t i = 0; i < vf.size; ++i) {
+                test_vf(vf.key[i], out);
+                if (!out.vf.empty()) return true;
+            }
+            for (int32_t i = 0; i < ee.size; ++i) {
+                test_ee(ee.key[i], out);
+                if (!out.ee.empty()) return true;
+            }
+            return false;
+        };
+        const auto no_prefetch = [](const TrianglePair&, int) {};
+        std::vector<CcdTally> outs;
+        size_t counted = 0;
+        bool done = false;
+        if constexpr (!kTraceHooks<Tracer>) {
+            if (method_ == Method::kAabb || method_ == Method::kNc) {
+                // Without a front to keep complete, the traversal stops at the hit too.
+                t0 = Clock::now();
+                const Continuous motion{V0, V1};
+                const auto run = [&](auto cones) {
+                    constexpr bool kCones = decltype(cones)::value;
+                    const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
+                        return SelfCollideTraversal<kCones, Tracer, Continuous, false>(bvh_, contours_, cones_, motion,
+                                                                                      tracer, s, out);
+                    };
+                    const auto find_hit = [&](const std::vector<TrianglePair>& c, CcdTally& out) {
+                        exact_path_counts() = {};
+                        CandidateList list;
+                        list.set(c);
+                        const int64_t i = list.find_in_range(
+                            0, list.size(), [&](const TrianglePair& p) { return first_contact(p, out); }, no_prefetch);
+                        out.exact = exact_path_counts();
+                        return i;
+                    };
+                    return self_collide_until_first_hit(bvh_, threads, make, find_hit, outs, st, parallel_);
+                };
+                const FirstHit hit = method_ == Method::kNc ? run(std::true_type{}) : run(std::false_type{});
+                candidates_.clear();
+                candidate_list_.set(candidates_);
+                std::vector<CcdTally> ordered(hit.tasks);
+                for (size_t i = 0; i < hit.tasks; ++i) ordered[i] = std::move(outs[parallel_.run_order[i]]);
+                outs.swap(ordered);
+                counted = outs.size();
+                st.seconds_traversal = seconds_since(t0);  // the pairs and tests run inside it
+                done = true;
+            }
+        }
+        if (!done) {
+            // The front methods (their front must stay complete), cbc and traced queries
+            // traverse fully, then go through the candidates in chunks; each chunk stops at its
+            // first contact (FirstHitChunk), so the chunks up to the first with a contact hold
+            // exactly the tests up to the first contact in candidate order, whatever the chunking.
+            t0 = Clock::now();
+            traverse(Continuous{V0, V1}, tracer, st);
+            st.seconds_traversal = seconds_since(t0);
+            t0 = Clock::now();
+            const CandidateList& candidates = candidate_list_;
+            const Chunks ch(candidates.size(), threads, 1024);
+            outs.resize(ch.count);
+            FirstHitChunk first_hit(ch.count);
+            parallel_chunks(ch.count, threads, [&](int64_t k, int) {
+                if (first_hit.skip(k)) return;
+                CcdTally& out = outs[k];
+                exact_path_counts() = {};
+                const int64_t i = candidates.find_in_range(
+                    ch.begin(k), ch.end(k), [&](const TrianglePair& c) { return first_contact(c, out); }, no_prefetch);
+                out.exact = exact_path_counts();
+                if (i < ch.end(k)) first_hit.found(k);
+            });
+            counted = static_cast<size_t>(std::min(first_hit.get() + 1, ch.count));
+            st.seconds_elementary = seconds_since(t0);
+        }
+        for (size_t k = 0; k < counted; ++k) {
+            st.vf_candidates += outs[k].vf_candidates;
+            st.ee_candidates += outs[k].ee_candidates;
+        }
+        gather(outs.data(), counted);
+        st.seconds_pairs = seconds_boxes;
+        return;
+    }
+
+    t0 = Clock::now();
+    traverse(Continuous{V0, V1}, tracer, st);
+    st.seconds_traversal = seconds_since(t0);
+
+    t0 = Clock::now();
+    // In chunks of candidates, each chunk's keys in its own lists, concatenated in chunk order:
+    // the serial order.
+    const Chunks cand(candidate_list_.size(), threads, 1024);
+    std::vector<Padded<std::vector<uint64_t>>> vf_parts(cand.count), ee_parts(cand.count);
+    parallel_chunks(cand.count, threads, [&](int64_t k, int) {
+        candidate_list_.for_range(cand.begin(k), cand.end(k),
+                                  [&](const TrianglePair& c) { pairs_of(c, vf_parts[k].value, ee_parts[k].value); });
+    });
+    std::vector<uint64_t>& vf_keys = vf_keys_;
+    std::vector<uint64_t>& ee_keys = ee_keys_;
+    concat_in_order(vf_parts, vf_parts.size(), threads, vf_keys);
+    concat_in_order(ee_parts, ee_parts.size(), threads, ee_keys);
+    st.vf_candidates = static_cast<int64_t>(vf_keys.size());
+    st.ee_candidates = static_cast<int64_t>(ee_keys.size());
+    st.seconds_pairs = seconds_boxes + seconds_since(t0);
+
+    t0 = Clock::now();
+    // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
+    // counters (the exact-path counters are per thread: reset and read around each chunk).
     const int64_t n_vf = static_cast<int64_t>(vf_keys.size());
     const Chunks keys(n_vf + static_cast<int64_t>(ee_keys.size()), threads, 64);
-    std::vector<ChunkOut> outs(keys.count);
-    // stop_at_first: a chunk stops at its first contact (FirstHitChunk), so the chunks up to the
-    // first with a contact hold exactly the tests up to the first contact in key order, whatever
-    // the chunking; later chunks, run or not depending on timing, are left out of the result.
-    FirstHitChunk first_hit(keys.count);
+    std::vector<CcdTally> outs(keys.count);
     parallel_chunks(keys.count, threads, [&](int64_t k, int) {
-        if (stop_at_first && first_hit.skip(k)) return;
-        ChunkOut& out = outs[k];
+        CcdTally& out = outs[k];
         exact_path_counts() = {};
         for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
             if (i < n_vf) test_vf(vf_keys[i], out);
             else test_ee(ee_keys[i - n_vf], out);
-            if (stop_at_first && (!out.vf.empty() || !out.ee.empty())) {
-                first_hit.found(k);
-                break;
-            }
         }
         out.exact = exact_path_counts();
     });
-    if (stop_at_first && first_hit.get() < keys.count) outs.resize(static_cast<size_t>(first_hit.get()) + 1);
-    st.exact_paths = {};
-    for (const ChunkOut& out : outs) {
-        res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());
-        res.ee.insert(res.ee.end(), out.ee.begin(), out.ee.end());
-        st.npf_culled += out.npf_culled;
-        st.vf_tests += out.vf_tests;
-        st.ee_tests += out.ee_tests;
-        ExactPathCounts& e = st.exact_paths;
-        e.filtered += out.exact.filtered;
-        e.static_contact += out.exact.static_contact;
-        e.proven_contact += out.exact.proven_contact;
-        e.interval_filtered += out.exact.interval_filtered;
-        e.exact_engine += out.exact.exact_engine;
-    }
-    parallel_sort(res.vf, threads);  // distinct pairs: std::sort's order (parallel.hpp)
-    parallel_sort(res.ee, threads);
-    st.elementary_tests = st.vf_tests + st.ee_tests;
-    st.vf_contacts = static_cast<int64_t>(res.vf.size());
-    st.ee_contacts = static_cast<int64_t>(res.ee.size());
-    st.colliding_pairs = st.vf_contacts + st.ee_contacts;
+    gather(outs.data(), outs.size());
     st.seconds_elementary = seconds_since(t0);
 }
 

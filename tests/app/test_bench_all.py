@@ -122,5 +122,8 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     assert r["ours_fn"] == 0 and r["ours_fp"] == 0 and r["ipctk_fn"] == 0
     assert r["candidates"] > 0 and r["ipctk_intersecting"] == r["ours_intersecting"]
     assert r["ours_first_hit_ms"] > 0 and r["first_hit_speedup"] == r["has_intersections_ms"] / r["ours_first_hit_ms"]
+    # is_step_collision_free against ccd(stop_at_first): the step has contacts, both say so
+    assert r["ipctk_step_free"] is False and r["ours_step_free"] is False and r["ours_step_free_full"] is False
+    assert r["step_free_speedup"] == r["ipctk_step_free_ms"] / r["ours_first_hit_ccd_ms"]
     rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # the cap: narrow phase not run, stated
     assert "ipctk_narrow_ms" not in rows[0] and "not run" in capsys.readouterr().out

@@ -1,4 +1,4 @@
-"""The benchmark sections other than `bench all` (dcd, trace, contour, threads) run headless at toy
+"""The benchmark sections other than `bench all` (dcd, trace, contour, threads, first-hit) run headless at toy
 sizes and write their JSON. Their timings are not tested; their counters are, against the
 invariants of the methods (a front gives the candidates of a traversal from the root, cones only
 remove candidates, every method finds the same pairs)."""
@@ -62,3 +62,22 @@ def test_bench_threads(tmp_path, threads):
     assert {("dcd", m) for m in ("aabb", "nc", "aabb+front", "nc+front")} <= queries
     assert {("ccd", f"ccd {a}") for a in ("float", "conservative", "exact")} <= queries
     assert got == {(k, q, t) for k, q in queries for t in (1, int(threads))}
+
+
+def test_bench_first_hit(tmp_path):
+    """stop_at_first against the full queries (here the generated step only): the first hit is
+    one of the full query's collisions (the section checks it), made after fewer pairs and tests."""
+    out = tmp_path / "first-hit"
+    assert main(["bench", "first-hit", "--triangles", "2000", "--repeats", "1", "--skip", "steps",
+                 "--out", str(out)]) == 0
+    rows = json.loads((out / "first_hit.json").read_text())["rows"]
+    assert [r["method"] for r in rows] == ["nc", "nc+front"]
+    for r in rows:
+        assert r["ccd_colliding"] and r["ccd_first_hit_tests"] <= r["ccd_tests"], r
+        assert r["ccd_first_hit_pairs"] <= r["ccd_pairs"] and r["dcd_first_hit_tests"] <= r["dcd_tests"], r
+    assert rows[0]["ccd_first_hit_pairs"] < rows[0]["ccd_pairs"] / 4  # nc stops making pairs early
+
+
+def test_bench_first_hit_bad_skip(capsys):
+    assert main(["bench", "first-hit", "--skip", "scenes"]) == 2
+    assert "--skip: first-hit can leave out 'steps' only" in capsys.readouterr().err

@@ -1,8 +1,12 @@
 """ccd(V0, V1, stop_at_first=True), the "is this step collision-free?" query: on generated steps,
 for every CCD method, arithmetic and thread count, it reports one contact iff the brute force in
-the same arithmetic finds one, that contact is the first one the full traced query tests (VF pairs,
-then EE pairs), the test counters stop there, and all of it is the same for any thread count.
-A step without contact runs every test; a traced first-hit query traces the tests up to the hit."""
+the same arithmetic finds one, and all of it (the contact and every counter) is the same for any
+thread count. A candidate's VF and EE pairs are made and tested as soon as it is reached (its VF
+pairs, then its EE pairs), so the pairs of later candidates are never made. The methods that
+traverse fully (front methods, cbc, traced queries) go through the candidates in traversal order:
+a traced first-hit query records the tests up to the hit, no contact before it, and the untraced
+query finds the same contact after as many tests. aabb and nc stop the traversal at the hit too
+(tasks in first-hit order, as dcd). A step without contact runs every test."""
 
 import numpy as np
 import pytest
@@ -13,54 +17,70 @@ from conecull.datasets.generated import grid_sheet
 from thread_cases import THREADS, counters
 
 STEPS = generated_steps()
-
-
-def first_traced_contact(trace):
-    """The first contact the traced full query tested, and the tests up to it (VF, then EE)."""
-    n_vf = len(trace.vf["result"])
-    hits = np.flatnonzero(np.concatenate([trace.vf["result"], trace.ee["result"]]))
-    if len(hits) == 0:
-        return None, n_vf + len(trace.ee["result"])
-    i = int(hits[0])
-    kind, events, j = ("vf", trace.vf, i) if i < n_vf else ("ee", trace.ee, i - n_vf)
-    return (kind, tuple(events["pair"][j].tolist())), i + 1
+STOPS_TRAVERSAL = ("aabb", "nc")  # untraced: the first-hit traversal (tasks in first-hit order)
 
 
 def contacts(res):
     return [("vf", tuple(p)) for p in res.vf.tolist()] + [("ee", tuple(p)) for p in res.ee.tolist()]
 
 
+def traced_tests(trace):
+    """The (kind, pair) of every VF / EE test a traced query ran, and their results."""
+    keys = [("vf", tuple(p)) for p in trace.vf["pair"].tolist()] + [("ee", tuple(p)) for p in trace.ee["pair"].tolist()]
+    return keys, np.concatenate([trace.vf["result"], trace.ee["result"]])
+
+
+def check_first_hit(mesh, V0, V1, arithmetic, method, expect_contact, where):
+    """One method on one step: the traced first-hit query (serial, traversal order) against the
+    full traced query, then every thread count against it; the contact and the counters."""
+    full = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True)
+    full_keys, full_results = traced_tests(full.trace)
+    traced = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True,
+                                                            stop_at_first=True)
+    keys, results = traced_tests(traced.trace)
+    n_tests = traced.stats["vf_tests"] + traced.stats["ee_tests"]
+    # the tests it traced are the full query's (the same pairs, each once, the same results)
+    assert len(keys) == n_tests and len(set(keys)) == n_tests, where
+    outcome = dict(zip(full_keys, full_results.tolist()))
+    assert all(outcome.get(k) == r for k, r in zip(keys, results.tolist())), where
+    if expect_contact:
+        assert results[-1] and not results[:-1].any(), where  # the hit, and no contact before it
+        assert contacts(traced) == [keys[-1]], where
+    else:
+        assert not results.any() and counters(traced.stats) == counters(full.stats), where
+    ref = None
+    for threads in THREADS:
+        res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
+                                                             stop_at_first=True, toi=True)
+        got = contacts(res)
+        at = where + (threads,)
+        assert len(got) == (1 if expect_contact else 0), at
+        assert res.stats["colliding_pairs"] == len(got), at
+        if got:
+            assert outcome.get(got[0]) is True, at  # a contact the full query finds
+            assert len(res.toi) == 1 and 0.0 <= res.toi[0] <= 1.0, at
+        if method not in STOPS_TRAVERSAL or not expect_contact:
+            # the same candidates in the same order as the traced query: the same contact
+            # after as many tests (without a contact: every test)
+            assert got == contacts(traced) and counters(res.stats) == counters(traced.stats), at
+        else:
+            assert res.stats["vf_tests"] + res.stats["ee_tests"] <= full.stats["vf_tests"] + full.stats["ee_tests"], at
+        ref = ref or (got, counters(res.stats))
+        assert (got, counters(res.stats)) == ref, f"{at}: thread counts disagree"
+    return full, ref
+
+
 @pytest.mark.parametrize("step", [s[0] for s in STEPS])
 @pytest.mark.parametrize("arithmetic", ["float", "conservative", "exact"])
-def test_ccd_first_hit_matches_brute_force_and_full_query(step, arithmetic):
+def test_ccd_first_hit_matches_brute_force(step, arithmetic):
     _, F, V0, V1 = next(s for s in STEPS if s[0] == step)
     vf_ref, ee_ref = brute_force_ccd(F, V0, V1, arithmetic)
     mesh = conecull.Mesh(F, n_vertices=len(V0))
     for method in conecull.CCD_METHODS:
-        full = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True)
-        expect, tests = first_traced_contact(full.trace)
-        first = None
-        for threads in THREADS:
-            res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
-                                                                 stop_at_first=True, toi=True)
-            got = contacts(res)
-            where = (step, arithmetic, method, threads)
-            if vf_ref or ee_ref:
-                assert len(got) == 1 and (got[0][1] in (vf_ref if got[0][0] == "vf" else ee_ref)), where
-                assert got[0] == expect, where
-                assert len(res.toi) == 1 and 0.0 <= res.toi[0] <= 1.0, where
-            else:
-                assert got == [] and expect is None, where
-            assert res.stats["vf_tests"] + res.stats["ee_tests"] == tests, where
-            assert res.stats["colliding_pairs"] == len(got), where
-            c = counters(res.stats)
-            first = first or (got, c)
-            assert (got, c) == first, f"{where}: thread counts disagree"
-        if vf_ref or ee_ref:  # tracing the first-hit query records the tests up to the hit
-            rt = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True,
-                                                                stop_at_first=True)
-            results = np.concatenate([rt.trace.vf["result"], rt.trace.ee["result"]])
-            assert len(results) == tests and results[-1] and not results[:-1].any()
+        _, (got, _) = check_first_hit(mesh, V0, V1, arithmetic, method, bool(vf_ref or ee_ref), (step, arithmetic, method))
+        if got:
+            kind, pair = got[0]
+            assert pair in (vf_ref if kind == "vf" else ee_ref), (step, arithmetic, method)
 
 
 def test_ccd_first_hit_without_contact_runs_every_test():
@@ -89,10 +109,10 @@ def test_steps_cover_both_answers():
 
 
 def late_hit_steps():
-    """Steps whose first contact comes after many chunks of tests (the steps above hit within
-    their first ~150 keys): the folding sheet's step 5 -> 6 (with nc, its first contact after
-    ~740 of 16781 tests; cbc 311), and its contact-free step 4 -> 5 with one vertex pushed
-    through the other layer (after ~590 of ~3000 tests)."""
+    """Steps whose first contact comes after many tests (the steps above hit within their first
+    ~100): the folding sheet's step 5 -> 6 (full traversal: its first contact after ~1300-14000
+    tests, by method), and its contact-free step 4 -> 5 with one vertex pushed through the other
+    layer (after ~1700-14700)."""
     from thread_cases import sequences
 
     F, P = sequences()["folding_sheet"]
@@ -103,22 +123,18 @@ def late_hit_steps():
 
 @pytest.mark.parametrize("arithmetic", ["conservative", "exact"])
 def test_ccd_first_hit_in_a_late_chunk(arithmetic):
-    """With 2, 3 and 7 threads the first contact lies in a late chunk, where chunks after it may
-    find their own contacts first (and are dropped): the same contact and counters as one
-    thread and as the full traced query."""
+    """With 2, 3 and 7 threads the first contact lies in a late chunk of candidates (or a late
+    block of tasks), where chunks after it may find their own contacts first (and are dropped):
+    the same contact and counters as one thread and as the traced query; aabb and nc stop the
+    traversal and the pair generation early."""
     for step, F, V0, V1 in late_hit_steps():
         mesh = conecull.Mesh(F, n_vertices=len(V0))
         for method in conecull.CCD_METHODS:
-            full = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, trace=True)
-            expect, tests = first_traced_contact(full.trace)
-            total = full.stats["vf_tests"] + full.stats["ee_tests"]
-            # chunks hold at least 64 keys (Chunks' grain): the hit is past the first four
-            assert expect is not None and tests > 4 * 64, (step, method, tests, total)
-            ref = None
-            for threads in THREADS:
-                res = conecull.SelfCollider(mesh, method=method).ccd(V0, V1, arithmetic=arithmetic, threads=threads,
-                                                                     stop_at_first=True)
-                got = contacts(res)
-                assert got == [expect] and res.stats["vf_tests"] + res.stats["ee_tests"] == tests, (step, method, threads)
-                ref = ref or counters(res.stats)
-                assert counters(res.stats) == ref, (step, method, threads)
+            full, (got, c) = check_first_hit(mesh, V0, V1, arithmetic, method, True, (step, arithmetic, method))
+            assert len(got) == 1
+            if method in STOPS_TRAVERSAL:
+                n_full = full.stats["vf_candidates"] + full.stats["ee_candidates"]
+                assert c["bv_tests"] < full.stats["bv_tests"] / 2, (step, method, c["bv_tests"])
+                assert c["vf_candidates"] + c["ee_candidates"] < n_full / 4, (step, method)
+            else:  # they must traverse fully, and reach the hit after many tests
+                assert c["bv_tests"] == full.stats["bv_tests"] and c["vf_tests"] + c["ee_tests"] > 1000, (step, method)

@@ -72,10 +72,11 @@ class SelfCollider {
     DcdResult dcd(const double* V, RecordingTracer* tracer = nullptr, int threads = 0, bool stop_at_first = false);
 
     // Continuous query over one linear step V0 -> V1 (Sec. 3.6). stop_at_first ("is this step
-    // collision-free?"): the VF / EE tests stop at the first contact in test order (the VF pairs,
-    // then the EE pairs, as the full query tests them): res holds it, or nothing, and the test
-    // counters count the tests up to it (the same for any thread count). The traversal and the
-    // pair generation run in full (a front method's front stays complete).
+    // collision-free?"): each candidate's VF then EE pairs are made and tested as soon as it is
+    // reached, up to the first contact: res holds it, or nothing, and the counters count the
+    // pairs and tests up to it (the same for any thread count). aabb and nc stop traversing there
+    // too (tasks in first_hit_order, as dcd); the others traverse fully (a front method's front
+    // stays complete) and take the candidates in traversal order.
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
                   bool want_toi = false, int threads = 0, bool stop_at_first = false);
 

@@ -270,11 +270,12 @@ class SelfCollider:
         arithmetic: "float" (fast, may err), "conservative" (never misses a contact, may report
         a few that do not happen) or "exact" (exactly the answer for the given doubles).
         threads: this query's thread count (None: the collider's).
-        stop_at_first=True answers "is this step collision-free?": the VF / EE tests stop at the
-        first contact in test order (the VF pairs, then the EE pairs), which `vf` or `ee` then
-        holds (both empty: none); the test counters count the tests up to it. The traversal and
-        the pair generation run in full. The answer and every counter are the same for any
-        thread count.
+        stop_at_first=True answers "is this step collision-free?": each candidate triangle pair's
+        VF then EE pairs are made and tested as soon as the traversal reaches it, up to the first
+        contact, which `vf` or `ee` then holds (both empty: none); the counters count the pairs
+        and tests up to it. "aabb" and "nc" stop traversing there too (visiting the top of the
+        tree in dcd's first-hit order); the other methods traverse fully. The answer and every
+        counter are the same for any thread count.
         """
         if self.method not in CCD_METHODS:
             raise ValueError(f"method: {self.method!r} is a discrete (DCD) method; CCD queries need one of {CCD_METHODS}")

@@ -179,11 +179,13 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
 }
 
 // The first colliding candidate in the order the tasks were visited (first_hit_order), and the
-// candidates tested up to it.
+// candidates tested up to it; `tasks`: how many tasks in that order count, the hit's included
+// (their ids are run_order[0, tasks) of the scratch).
 struct FirstHit {
     bool found = false;
     TrianglePair pair{};
     int64_t tests = 0;
+    size_t tasks = 0;
 };
 
 // Tasks and blocks of the first-hit traversal: fixed, so that what it runs, and so every counter,
@@ -248,15 +250,16 @@ inline void first_hit_order(const Bvh& bvh, const std::vector<BvttTask>& tasks, 
     }
 }
 
-// dcd(stop_at_first) without a front: the tasks of expand_tasks, in first_hit_order, a block at
-// a time; each task traverses its part of the BVTT and at once tests its candidates in order
-// with find_hit(candidates) (the index of the first colliding one, or their count). The first
-// block holding a hit ends the query: the traversal stops there too, not only the tests. The hit
-// is the first colliding candidate in that order (tasks in first_hit_order, each task's
-// candidates in traversal order), and every candidate before it has been tested.
-template <class Make, class FindHit>
+// dcd / ccd(stop_at_first) without a front: the tasks of expand_tasks, in first_hit_order, a block
+// at a time; each task traverses its part of the BVTT and at once tests its candidates in order
+// with find_hit(candidates, outs[k]) (the index of the first colliding one, or their count; outs[k]:
+// what the caller keeps of task k's tests, e.g. CCD's contact and counters). The first block
+// holding a hit ends the query: the traversal stops there too, not only the tests. The hit is the
+// first colliding candidate in that order (tasks in first_hit_order, each task's candidates in
+// traversal order), and every candidate before it has been tested.
+template <class Make, class FindHit, class TaskOut>
 FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& make, const FindHit& find_hit,
-                                      DcdStats& stats, ParallelTraversalScratch& s) {
+                                      std::vector<TaskOut>& outs, DcdStats& stats, ParallelTraversalScratch& s) {
     FirstHit out;
     if (bvh.size() == 0) return out;
     expand_tasks(threads, make, kFirstHitTasks, s);
@@ -264,6 +267,7 @@ FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& m
     const size_t n = tasks.size();
     first_hit_order(bvh, tasks, s.run_order);
     if (s.candidates.size() < n) s.candidates.resize(n);
+    outs.assign(n, TaskOut{});
     std::vector<int64_t> hit_at(n, 0);
     for (size_t b = 0, e = 0; b < n && !out.found; b = e) {
         e = std::min(n, b + std::max(kFirstHitBlock, b));
@@ -272,13 +276,16 @@ FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& m
             std::vector<TrianglePair>& c = s.candidates[k].value;
             c.clear();
             make(s.stats[w].value, c, nullptr).run_task(tasks[k]);
-            hit_at[k] = find_hit(c);
+            hit_at[k] = find_hit(c, outs[k]);
         });
         for (size_t i = b; i < e; ++i) {
             const int32_t k = s.run_order[i];
             const std::vector<TrianglePair>& c = s.candidates[k].value;
+            out.tasks = i + 1;
             if (hit_at[k] < static_cast<int64_t>(c.size())) {
-                out = {true, c[hit_at[k]], out.tests + hit_at[k] + 1};
+                out.found = true;
+                out.pair = c[hit_at[k]];
+                out.tests += hit_at[k] + 1;
                 break;
             }
             out.tests += static_cast<int64_t>(c.size());
