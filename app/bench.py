@@ -445,10 +445,12 @@ def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: in
                     t[key].append((time.perf_counter() - w, res))
             d, d1, c, c1 = (t[k][0][1] for k in ("dcd", "dcd1", "ccd", "ccd1"))
             full_pairs = {tuple(p) for p in d.pairs.tolist()}
-            assert (len(d1.pairs) == 1 and tuple(d1.pairs[0]) in full_pairs) or (len(d1.pairs) == 0 == len(full_pairs)), name
+            if not ((len(d1.pairs) == 1 and tuple(d1.pairs[0]) in full_pairs) or (len(d1.pairs) == 0 == len(full_pairs))):
+                raise AssertionError(f"{name}, {method}: dcd(stop_at_first) disagrees with the full DCD query")
             hits = [("vf", tuple(p)) for p in c1.vf.tolist()] + [("ee", tuple(p)) for p in c1.ee.tolist()]
             full_hits = {("vf", tuple(p)) for p in c.vf.tolist()} | {("ee", tuple(p)) for p in c.ee.tolist()}
-            assert (len(hits) == 1 and hits[0] in full_hits) or (not hits and not full_hits), name
+            if not ((len(hits) == 1 and hits[0] in full_hits) or (not hits and not full_hits)):
+                raise AssertionError(f"{name}, {method}: ccd(stop_at_first) disagrees with the full CCD query")
             ms = {k: 1e3 * statistics.median(w for w, _ in v) for k, v in t.items()}
             pairs = lambda s: s["vf_candidates"] + s["ee_candidates"]  # noqa: E731
             tests = lambda s: s["vf_tests"] + s["ee_tests"]  # noqa: E731

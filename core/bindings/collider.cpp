@@ -224,7 +224,8 @@ void bind_collider(py::module_& m) {
             py::arg("V0"), py::arg("V1"), py::arg("arithmetic"), py::arg("trace") = false, py::arg("toi") = false,
             py::arg("threads") = 0, py::arg("stop_at_first") = false,
             "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None, toi or None).\n"
-            "stop_at_first: stop the VF / EE tests at the first contact in test order (vf or ee: it, or none).")
+            "stop_at_first: make and test each candidate's VF then EE pairs as it is reached, up to the first\n"
+            "contact (vf or ee: it, or none); aabb / nc stop traversing there too (see SelfCollider.ccd).")
         .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def_property_readonly("threads", [](PyCollider& self) { return self.collider.threads(); })
