@@ -254,33 +254,44 @@ inline void first_hit_order(const Bvh& bvh, const std::vector<BvttTask>& tasks, 
 // at a time; each task traverses its part of the BVTT and at once tests its candidates in order
 // with find_hit(candidates, outs[k]) (the index of the first colliding one, or their count; outs[k]:
 // what the caller keeps of task k's tests, e.g. CCD's contact and counters). The first block
-// holding a hit ends the query: the traversal stops there too, not only the tests. The hit is the
-// first colliding candidate in that order (tasks in first_hit_order, each task's candidates in
-// traversal order), and every candidate before it has been tested.
+// holding a hit ends the query: the traversal stops there too, not only the tests. Within that
+// block the tasks after the hit are skipped once it is found (FirstHitChunk over the block's
+// positions: every task before the hit runs to its end), and only the tasks up to the hit count,
+// their traversal counters included (each task counts into its own stats), so every counter is
+// the same for any thread count. The hit is the first colliding candidate in that order (tasks in
+// first_hit_order, each task's candidates in traversal order), and every candidate before it has
+// been tested.
 template <class Make, class FindHit, class TaskOut>
 FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& make, const FindHit& find_hit,
                                       std::vector<TaskOut>& outs, DcdStats& stats, ParallelTraversalScratch& s) {
     FirstHit out;
     if (bvh.size() == 0) return out;
     expand_tasks(threads, make, kFirstHitTasks, s);
+    for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);  // the expansion's
     const std::vector<BvttTask>& tasks = s.tasks;
     const size_t n = tasks.size();
     first_hit_order(bvh, tasks, s.run_order);
     if (s.candidates.size() < n) s.candidates.resize(n);
     outs.assign(n, TaskOut{});
+    std::vector<Padded<DcdStats>> task_stats(n);
     std::vector<int64_t> hit_at(n, 0);
     for (size_t b = 0, e = 0; b < n && !out.found; b = e) {
         e = std::min(n, b + std::max(kFirstHitBlock, b));
-        parallel_chunks(static_cast<int64_t>(e - b), threads, [&](int64_t i, int w) {
+        FirstHitChunk first(static_cast<int64_t>(e - b));
+        parallel_chunks(static_cast<int64_t>(e - b), threads, [&](int64_t i, int) {
+            if (first.skip(i)) return;
             const int32_t k = s.run_order[b + i];
             std::vector<TrianglePair>& c = s.candidates[k].value;
             c.clear();
-            make(s.stats[w].value, c, nullptr).run_task(tasks[k]);
+            make(task_stats[k].value, c, nullptr).run_task(tasks[k]);
             hit_at[k] = find_hit(c, outs[k]);
+            if (hit_at[k] < static_cast<int64_t>(c.size())) first.found(i);
         });
-        for (size_t i = b; i < e; ++i) {
+        const size_t last = first.get() < static_cast<int64_t>(e - b) ? b + static_cast<size_t>(first.get()) : e - 1;
+        for (size_t i = b; i <= last; ++i) {
             const int32_t k = s.run_order[i];
             const std::vector<TrianglePair>& c = s.candidates[k].value;
+            stats.add_traversal_counters(task_stats[k].value);
             out.tasks = i + 1;
             if (hit_at[k] < static_cast<int64_t>(c.size())) {
                 out.found = true;
@@ -291,7 +302,6 @@ FirstHit self_collide_until_first_hit(const Bvh& bvh, int threads, const Make& m
             out.tests += static_cast<int64_t>(c.size());
         }
     }
-    for (const Padded<DcdStats>& w : s.stats) stats.add_traversal_counters(w.value);
     return out;
 }
 
