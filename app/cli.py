@@ -1,4 +1,4 @@
-"""The `conecull` command line: demo, record, explain, bench."""
+"""The `conecull` command line: demo, record, view, explain, check, scenes, bench."""
 
 from __future__ import annotations
 
@@ -51,6 +51,17 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--node", type=int, required=True,
                    help="the BVH node id, 0 the root (required; `conecull record` shows node ids in its log)")
     p.add_argument("--method", choices=list(METHODS), default="nc", help=method_help)
+
+    p = sub.add_parser("check", help="is each frame intersection-free (and, with --ccd, each step collision-free)? "
+                                     "Prints the first collision found; exit status 1 if any, 0 if none")
+    p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
+    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
+    p.add_argument("--frames", help="A:B (B exclusive) or K, frames counted from 0: the frames to check (default all)")
+    p.add_argument("--method", choices=list(METHODS), default="nc", help="culling method (default nc; --ccd: any but sct)")
+    p.add_argument("--ccd", action="store_true", help="also check each step from frame k to k + 1 within --frames")
+    p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
+                   help="CCD arithmetic (default exact)")
 
     p = sub.add_parser("scenes", help="list the built-in scenes (name, triangles, frames, effects, paper benchmark)")
     p.add_argument("--generate", nargs="*", metavar="NAME",
@@ -119,6 +130,44 @@ def _check_out_file(out: str) -> None:
     from conecull.datasets.checks import writable_file
 
     writable_file("--out", out)
+
+
+def _check(args) -> int:
+    """`conecull check`: the first-hit queries (stop_at_first) per frame and, with --ccd, per step."""
+    import conecull
+    from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
+
+    if args.ccd and args.method not in conecull.CCD_METHODS:
+        raise ValueError(f"--method: {args.method!r} is a discrete (DCD) method; --ccd needs one of {conecull.CCD_METHODS}")
+    F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
+    rng = parse_frames(args.frames, len(frames))
+    mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
+    col = conecull.SelfCollider(mesh, method=args.method)
+    bad = 0
+    for k in rng:
+        res = col.dcd(frames[k], stop_at_first=True)
+        if len(res.pairs):
+            bad += 1
+            print(f"frame {k}: self-intersecting: triangles {res.pairs[0][0]} and {res.pairs[0][1]} intersect")
+        else:
+            print(f"frame {k}: intersection-free")
+        if args.ccd and k + 1 in rng:
+            step = col.ccd(frames[k], frames[k + 1], arithmetic=args.arithmetic, stop_at_first=True, toi=True)
+            if len(step.vf):
+                v, f = step.vf[0]
+                what = f"vertex {v} touches triangle {f}"
+            elif len(step.ee):
+                a, b = step.ee[0]
+                what = f"edges {a} and {b} (ids of Mesh.edges) touch"
+            else:
+                print(f"step {k} -> {k + 1}: collision-free ({args.arithmetic})")
+                continue
+            bad += 1
+            print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, not before t = {step.toi[0]:.6g}")
+    kinds = "frames and steps" if args.ccd else "frames"
+    print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide" if bad else
+          f"{len(F)} triangles, method {args.method}: no collision in the {kinds} checked")
+    return 1 if bad else 0
 
 
 def _check_bench_args(args) -> None:
@@ -193,6 +242,8 @@ def _run(args) -> int:
         res = col.dcd(frames[args.frame], trace=True)
         print(explain_node(col, res, args.node, node_name="--node"))
         return 0
+    if args.command == "check":
+        return _check(args)
     if args.command == "bench":
         _check_bench_args(args)
     if args.command == "bench" and args.suite == "all":

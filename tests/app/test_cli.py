@@ -199,3 +199,45 @@ def test_demo_prints_commands_that_work_anywhere(tmp_path, capsys, monkeypatch):
     line = [ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("open it with:")][0]
     exe, path = line.split()[3:5]
     assert os.path.isabs(exe) and os.path.basename(exe) == "rerun" and path == str(tmp_path / "d.rrd")
+
+
+def test_check_reports_first_hits_that_are_real(capsys):
+    """`conecull check`: per frame the first intersecting pair, per step the first contact; each is
+    one of the full queries' collisions, and the exit status says whether any was found."""
+    import re
+
+    import conecull
+    from conecull.datasets import load
+
+    assert main(["check", "fold", "--frames", "25:30", "--ccd"]) == 1
+    out = capsys.readouterr().out
+    F, P = load("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]))
+    col.dcd(P[25])
+    for k in range(25, 30):
+        full = {tuple(p) for p in col.dcd(P[k]).pairs.tolist()}
+        line = next(ln for ln in out.splitlines() if ln.startswith(f"frame {k}:"))
+        m = re.search(r"triangles (\d+) and (\d+) intersect", line)
+        assert (m is not None) == bool(full), line
+        assert m is None or (int(m[1]), int(m[2])) in full, line
+        if k + 1 < 30:
+            step = col.ccd(P[k], P[k + 1])
+            line = next(ln for ln in out.splitlines() if ln.startswith(f"step {k} -> {k + 1}:"))
+            vf = re.search(r"vertex (\d+) touches triangle (\d+)", line)
+            ee = re.search(r"edges (\d+) and (\d+)", line)
+            assert (vf or ee) is not None or "collision-free" in line, line
+            assert (vf is not None or ee is not None) == bool(len(step.vf) + len(step.ee)), line
+            assert vf is None or (int(vf[1]), int(vf[2])) in {tuple(p) for p in step.vf.tolist()}, line
+            assert ee is None or (int(ee[1]), int(ee[2])) in {tuple(p) for p in step.ee.tolist()}, line
+    assert "collide" in out.splitlines()[-1]
+    assert main(["check", "bend", "--frames", "0:6", "--ccd"]) == 0  # never self-intersects
+    assert "no collision in the frames and steps checked" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["check", "bend", "--ccd", "--method", "sct"], "--method: 'sct' is a discrete (DCD) method"),
+    (["check", "bend", "--frames", "40"], "--frames: '40' selects no frame"),
+])
+def test_check_bad_options(argv, message, capsys):
+    assert main(argv) == 2
+    assert message in capsys.readouterr().err
