@@ -406,8 +406,6 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     return 0
 
 
-
-
 def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
                         threads: int = 1, skip: str = "") -> int:
     """The one-bit questions of a simulator's line search, against the full queries that list

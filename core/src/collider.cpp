@@ -387,7 +387,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         edge_owner_.resize(topo_->n_edges());
         for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_owner_[e] = topo_->edge_face_ids[topo_->edge_face_offsets[e]];
     }
-    double seconds_boxes = seconds_since(t0);
+    const double seconds_boxes = seconds_since(t0);
     auto pairs_of = [&](const TrianglePair& c, auto& vf_keys, auto& ee_keys) {
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
@@ -443,14 +443,22 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         if constexpr (kTraceHooks<Tracer>) tracer.on_ee(ea, eb, hit);
         if (hit) out.ee.emplace_back(ea, eb);
     };
+    // A run of tests into `out`; the exact-path counters are per thread: reset and read around it.
+    auto run_tests = [](CcdTally& out, const auto& body) {
+        exact_path_counts() = {};
+        body();
+        out.exact = exact_path_counts();
+    };
     // The results of runs of tests, in order: contacts and counters (the first-hit query passes
-    // only the runs up to the one with the contact).
+    // only the runs up to the one with the contact; the full query counts its pairs itself).
     auto gather = [&](const CcdTally* outs, size_t n) {
         st.exact_paths = {};
         for (size_t k = 0; k < n; ++k) {
             const CcdTally& out = outs[k];
             res.vf.insert(res.vf.end(), out.vf.begin(), out.vf.end());
             res.ee.insert(res.ee.end(), out.ee.begin(), out.ee.end());
+            st.vf_candidates += out.vf_candidates;
+            st.ee_candidates += out.ee_candidates;
             st.npf_culled += out.npf_culled;
             st.vf_tests += out.vf_tests;
             st.ee_tests += out.ee_tests;
@@ -473,8 +481,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         // "Is this step collision-free?": a candidate's VF then EE pairs are made and tested as
         // soon as it is reached, up to the first contact; the pairs of the candidates after it
         // are never made. Test order: the candidates in traversal order (aabb / nc: the tasks in
-        // first-hit order, as dcd), each candidate's VF pairs, then its EE pairs. The exact-path
-        // counters are per thread: reset and read around each run.
+        // first-hit order, as dcd), each candidate's VF pairs, then its EE pairs.
         auto first_contact = [&](const TrianglePair& c, CcdTally& out) {
             KeyBuffer vf, ee;
             pairs_of(c, vf, ee);
@@ -506,12 +513,13 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                                                                                       tracer, s, out);
                     };
                     const auto find_hit = [&](const std::vector<TrianglePair>& c, CcdTally& out) {
-                        exact_path_counts() = {};
                         CandidateList list;
                         list.set(c);
-                        const int64_t i = list.find_in_range(
-                            0, list.size(), [&](const TrianglePair& p) { return first_contact(p, out); }, no_prefetch);
-                        out.exact = exact_path_counts();
+                        int64_t i = 0;
+                        run_tests(out, [&] {
+                            i = list.find_in_range(
+                                0, list.size(), [&](const TrianglePair& p) { return first_contact(p, out); }, no_prefetch);
+                        });
                         return i;
                     };
                     return self_collide_until_first_hit(bvh_, threads, make, find_hit, outs, st, parallel_);
@@ -543,18 +551,15 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             parallel_chunks(ch.count, threads, [&](int64_t k, int) {
                 if (first_hit.skip(k)) return;
                 CcdTally& out = outs[k];
-                exact_path_counts() = {};
-                const int64_t i = candidates.find_in_range(
-                    ch.begin(k), ch.end(k), [&](const TrianglePair& c) { return first_contact(c, out); }, no_prefetch);
-                out.exact = exact_path_counts();
+                int64_t i = 0;
+                run_tests(out, [&] {
+                    i = candidates.find_in_range(
+                        ch.begin(k), ch.end(k), [&](const TrianglePair& c) { return first_contact(c, out); }, no_prefetch);
+                });
                 if (i < ch.end(k)) first_hit.found(k);
             });
             counted = static_cast<size_t>(std::min(first_hit.get() + 1, ch.count));
             st.seconds_elementary = seconds_since(t0);
-        }
-        for (size_t k = 0; k < counted; ++k) {
-            st.vf_candidates += outs[k].vf_candidates;
-            st.ee_candidates += outs[k].ee_candidates;
         }
         gather(outs.data(), counted);
         st.seconds_pairs = seconds_boxes;
@@ -584,18 +589,18 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
 
     t0 = Clock::now();
     // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
-    // counters (the exact-path counters are per thread: reset and read around each chunk).
+    // counters.
     const int64_t n_vf = static_cast<int64_t>(vf_keys.size());
     const Chunks keys(n_vf + static_cast<int64_t>(ee_keys.size()), threads, 64);
     std::vector<CcdTally> outs(keys.count);
     parallel_chunks(keys.count, threads, [&](int64_t k, int) {
         CcdTally& out = outs[k];
-        exact_path_counts() = {};
-        for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
-            if (i < n_vf) test_vf(vf_keys[i], out);
-            else test_ee(ee_keys[i - n_vf], out);
-        }
-        out.exact = exact_path_counts();
+        run_tests(out, [&] {
+            for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
+                if (i < n_vf) test_vf(vf_keys[i], out);
+                else test_ee(ee_keys[i - n_vf], out);
+            }
+        });
     });
     gather(outs.data(), outs.size());
     st.seconds_elementary = seconds_since(t0);
