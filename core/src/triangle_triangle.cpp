@@ -176,18 +176,17 @@ bool crossing_planes_meet(const Vec3 P[3], const Vec3 Q[3], const int op[3], con
 bool collide_no_shared(const Vec3 P[3], const Vec3 Q[3]) {
     // Plane rejection: one triangle strictly on one side of the other's plane. Filtered signs
     // first; where they fail, the 2D proof above before the exact fallback.
+    const FilteredPlane plane_p(P[0], P[1], P[2]);
+    if (plane_p.strictly_one_side(Q)) return false;
+    const FilteredPlane plane_q(Q[0], Q[1], Q[2]);
+    if (plane_q.strictly_one_side(P)) return false;
     int op[3], oq[3];
     bool unknown = false;
     for (int j = 0; j < 3; ++j) {
-        op[j] = orient3d_filtered(P[0], P[1], P[2], Q[j]);
-        unknown = unknown || op[j] == kUnknownSign;
+        op[j] = plane_p.sign(Q[j]);
+        oq[j] = plane_q.sign(P[j]);
+        unknown = unknown || op[j] == kUnknownSign || oq[j] == kUnknownSign;
     }
-    if (!unknown && strictly_one_side(op[0], op[1], op[2])) return false;
-    for (int j = 0; j < 3; ++j) {
-        oq[j] = orient3d_filtered(Q[0], Q[1], Q[2], P[j]);
-        unknown = unknown || oq[j] == kUnknownSign;
-    }
-    if (!unknown && strictly_one_side(oq[0], oq[1], oq[2])) return false;
     if (unknown) {
         if (apart_in_projection(P, Q)) return false;
         for (int j = 0; j < 3; ++j) {
@@ -233,7 +232,8 @@ bool apart_beyond_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
 bool collide_shared_vertex(const Vec3 P[3], const Vec3 Q[3]) {
     const Vec3 &v = P[0];
     // If c and d lie strictly on one side of P's plane, Q meets that plane only at v.
-    int oc = orient3d_filtered(P[0], P[1], P[2], Q[1]), od = orient3d_filtered(P[0], P[1], P[2], Q[2]);
+    const FilteredPlane plane_p(P[0], P[1], P[2]);
+    int oc = plane_p.sign(Q[1]), od = plane_p.sign(Q[2]);
     if (oc != kUnknownSign && od != kUnknownSign && oc * od > 0) return false;
     if (oc == kUnknownSign || od == kUnknownSign) {
         if (apart_beyond_shared_vertex(P, Q)) return false;

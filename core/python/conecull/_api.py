@@ -246,8 +246,8 @@ class SelfCollider:
         threads: this query's thread count (None: the collider's).
         stop_at_first=True answers "is this pose intersection-free?": the query stops at a colliding
         pair, which `pairs` then holds (else it is empty); stats["elementary_tests"] counts the tests
-        up to it. With "aabb" and "nc" the traversal stops there too (its counters include the rest
-        of the block of tasks that found the hit), and the top of the BVTT is visited in traversal
+        up to it. With "aabb" and "nc" the traversal stops there too (its counters count the tasks up
+        to the one that found the hit), and the top of the BVTT is visited in traversal
         order and distant-first order taking turns, so the pair is not always the full query's first
         one; the front methods traverse fully (their front stays complete), as do "sct", "cbc" and
         traced queries, and return the first colliding candidate in traversal order (so with "aabb"
