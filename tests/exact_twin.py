@@ -6,6 +6,7 @@ These are derived from the paper independently of the C++ code (see README, "Ver
 
 from __future__ import annotations
 
+import math
 from fractions import Fraction as Fr
 
 
@@ -253,11 +254,20 @@ def sct_candidate(loop_pts, l):
 MAX_KERNEL_CORNERS = 64
 
 
-def clipped_kernel_candidate(loop_pts, l):
+def clip_stride(n):
+    """clip_stride (kernel_point.hpp): the largest g <= 0.618 n coprime to n (at least 1)."""
+    g = n * 618 // 1000
+    while g > 1 and math.gcd(g, n) != 1:
+        g -= 1
+    return max(g, 1)
+
+
+def clipped_kernel_candidate(loop_pts, l, start=0):
     """clipped_kernel_point (kernel_point.hpp) replicated operation by operation in doubles: the
-    kernel polygon of the projected loop, clipped from its bounding box one edge at a time, and o
-    the point over the mean of its corners. Returns (status, o, visited) with status "found",
-    "empty" or "too_many_corners" (o None unless found). Like sct_candidate, it only chooses o."""
+    kernel polygon of the projected loop, clipped from its bounding box one edge at a time (edges
+    start, start + g, start + 2g, ... mod n, g = clip_stride(n)), and o the point over the mean of
+    its corners. Returns (status, o, visited) with status "found", "empty" or "too_many_corners"
+    (o None unless found). Like sct_candidate, it only chooses o."""
     l = tuple(float(x) for x in l)
     u, w, uu, _ = _frame(l)
     pts = [tuple(float(x) for x in p) for p in loop_pts]
@@ -274,7 +284,9 @@ def clipped_kernel_candidate(loop_pts, l):
         return "empty", None, 0
     sg = 1.0 if area2 > 0 else -1.0
     poly = [(x0, y0), (x1, y0), (x1, y1), (x0, y1)]
-    for i in range(n):
+    g = clip_stride(n)
+    for step in range(n):
+        i = ((start if 0 <= start < n else 0) + step * g) % n
         j = (i + 1) % n
         ax_, ay_ = X[i], Y[i]
         ex_, ey = X[j] - ax_, Y[j] - ay_
@@ -292,14 +304,14 @@ def clipped_kernel_candidate(loop_pts, l):
                 t = sp / (sp - sa)
                 out.append((poly[b][0] + t * (poly[a][0] - poly[b][0]), poly[b][1] + t * (poly[a][1] - poly[b][1])))
                 if len(out) > MAX_KERNEL_CORNERS:
-                    return "too_many_corners", None, i + 1
+                    return "too_many_corners", None, step + 1
             if sa > 0:
                 out.append(poly[a])
                 if len(out) > MAX_KERNEL_CORNERS:
-                    return "too_many_corners", None, i + 1
+                    return "too_many_corners", None, step + 1
             sp = sa
         if len(out) < 3:
-            return "empty", None, i + 1
+            return "empty", None, step + 1
         poly = out
     sx = sy = 0.0
     for q in poly:
@@ -310,22 +322,22 @@ def clipped_kernel_candidate(loop_pts, l):
     return ("found", o, n) if o is not None else ("empty", None, n)
 
 
-def kernel_candidate(loop_pts, l):
-    """find_kernel_point: the clipped kernel's point, or [SPO10]'s line-search point when the
-    kernel polygon has too many corners; None if neither finds one."""
-    status, o, _ = clipped_kernel_candidate(loop_pts, l)
+def kernel_candidate(loop_pts, l, start=0):
+    """find_kernel_point: the clipped kernel's point (clipping from edge `start`), or [SPO10]'s
+    line-search point when the kernel polygon has too many corners; None if neither finds one."""
+    status, o, _ = clipped_kernel_candidate(loop_pts, l, start)
     if status == "too_many_corners":
         return sct_candidate(loop_pts, l)[0]
     return o
 
 
-def retry_kernel(first_reason, loop_pts, l):
+def retry_kernel(first_reason, first_edge, loop_pts, l):
     """The second kernel point the core tries (contour_test.hpp, with_kernel_retry): after the
-    mean failed the kernel test or the ray crossed twice (reasons 1, 2, 4), kernel_candidate; else
-    None (the first verdict stands)."""
+    mean failed the kernel test or the ray crossed twice (reasons 1, 2, 4) at edge first_edge,
+    kernel_candidate clipping from that edge; else None (the first verdict stands)."""
     if first_reason not in (1, 2, 4):
         return None
-    return kernel_candidate(loop_pts, l)
+    return kernel_candidate(loop_pts, l, first_edge)
 
 
 def kernel_area(loop_pts, l):

@@ -105,11 +105,13 @@ def test_contour_test_ccd_matches_twin_and_is_sound(args):
     first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(m0), o1=np.array(m1))
     passed, reason, edge = ex.contour_test_ccd(Q0, Q1, tuple(l), first["ray"])
     assert (first["passed"], first["reason"]) == (passed, reason)
+    if reason in (1, 2, 3, 4):
+        assert first["edge"] == edge  # where the retry's clipping starts
     # ... and the core's full test: after a kernel failure, a kernel point of the loop at t = 0
     # moving to one of the loop at t = 1 (the clipped kernels' points), if both ends have one.
     res = C.contour_test_ccd(ids, P0, P1, l)
-    o2 = ex.retry_kernel(reason, Q0, tuple(l))
-    o2_end = ex.retry_kernel(reason, Q1, tuple(l)) if o2 is not None else None
+    o2 = ex.retry_kernel(reason, edge, Q0, tuple(l))
+    o2_end = ex.retry_kernel(reason, edge, Q1, tuple(l)) if o2 is not None else None
     if o2_end is None:
         assert (res["passed"], res["reason"], res["kernel"], res["kernel_end"]) == (
             first["passed"], first["reason"], m0, m1)
@@ -134,9 +136,11 @@ def test_ccd_kernel_retry_on_a_moving_spiked_star():
     ids = np.arange(len(P0), dtype=np.int32)
     Q0, Q1 = [tuple(p) for p in P0], [tuple(p) for p in P1]
     assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)))["passed"]
-    assert not C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))["passed"]
+    first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))
+    assert not first["passed"]
     res = C.contour_test_ccd(ids, P0, P1, l)
-    o2, o2_end = ex.clipped_kernel_candidate(Q0, tuple(l))[1], ex.clipped_kernel_candidate(Q1, tuple(l))[1]
+    e = first["edge"]
+    o2, o2_end = ex.clipped_kernel_candidate(Q0, tuple(l), e)[1], ex.clipped_kernel_candidate(Q1, tuple(l), e)[1]
     assert res["passed"] and res["kernel"] == o2 and res["kernel_end"] == o2_end
     assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o2, o1=res["kernel_end"])[0]
 
@@ -243,6 +247,7 @@ def test_ccd_kernel_retry_off_the_line_search_on_a_moving_sideways_spike():
     first = C.contour_test_ccd(ids, P0, P1, l, o=np.array(ex.float_mean(Q0)), o1=np.array(ex.float_mean(Q1)))
     assert first["reason"] == 2
     res = C.contour_test_ccd(ids, P0, P1, l)
-    o0, o1 = ex.clipped_kernel_candidate(Q0, tuple(l))[1], ex.clipped_kernel_candidate(Q1, tuple(l))[1]
+    e = first["edge"]
+    o0, o1 = ex.clipped_kernel_candidate(Q0, tuple(l), e)[1], ex.clipped_kernel_candidate(Q1, tuple(l), e)[1]
     assert res["passed"] and (res["kernel"], res["kernel_end"]) == (o0, o1)
     assert ex.contour_test_ccd(Q0, Q1, tuple(l), res["ray"], o=o0, o1=o1)[0]

@@ -173,7 +173,7 @@ def test_contour_test_matches_exact_twin_and_is_sound(loop):
     assert (res_paper["passed"], res_paper["reason"]) == ex.contour_test(P, tuple(l))[:2]
     # The core's full test: the mean, then (after a kernel failure) the clipped kernel's point.
     res = CT.contour_test(ids, pts, l)
-    o2 = ex.retry_kernel(reason, P, tuple(l))
+    o2 = ex.retry_kernel(reason, edge, P, tuple(l))
     if o2 is None:
         assert (res["passed"], res["reason"], res["kernel"]) == (first["passed"], first["reason"], first["kernel"])
     else:
@@ -196,7 +196,7 @@ def test_kernel_retry_passes_a_star_whose_mean_is_outside_its_kernel():
     first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
     assert not first["passed"] and first["reason"] == 2
     res = CT.contour_test(ids, pts, l)
-    status, o, visited = ex.clipped_kernel_candidate(P, tuple(l))
+    status, o, visited = ex.clipped_kernel_candidate(P, tuple(l), first["edge"])
     assert status == "found" and visited == len(pts)
     assert res["passed"] and res["kernel"] == o
     assert res["edges_visited"] == first["edges_visited"] + visited + len(pts)  # both attempts and the clipping
@@ -216,18 +216,20 @@ def test_kernel_point_lies_in_the_predicates_domain(monkeypatch):
                      [-0.1, 0.9, 0], [-0.7, 0.7, 0], [-1, 0, 0], [-0.7, -0.7, 0], [0, -1, 0], [0.7, -0.7, 0]])
     rng = np.random.default_rng(0)
     pts = star * 2.0**-80 + np.array([rng.uniform(-1, 1) * 2.0**-78, rng.uniform(-1, 1) * 2.0**-78, 0.0])
-    o = ex.clipped_kernel_candidate([tuple(p) for p in pts], tuple(l))[1]
+    ids = np.arange(len(pts), dtype=np.int32)
+    start = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean([tuple(p) for p in pts])))["edge"]
+    o = ex.clipped_kernel_candidate([tuple(p) for p in pts], tuple(l), start)[1]
     pts = pts - np.array([o[0], o[1], 0.0])
     pts[np.abs(pts) < 2.0**-128] = 0.0  # vertices must be in the domain too
     P = [tuple(p) for p in pts]
     with monkeypatch.context() as m:
         m.setattr(ex, "_predicate_domain", lambda o: o)
-        raw = ex.clipped_kernel_candidate(P, tuple(l))[1]
+        raw = ex.clipped_kernel_candidate(P, tuple(l), start)[1]
     assert any(0 < abs(x) < 2.0**-128 for x in raw), raw  # the case this test is about
-    ids = np.arange(len(pts), dtype=np.int32)
     res = CT.contour_test(ids, pts, l)  # the mean lies in the spike: the retry's point decides
+    assert ex.contour_test(P, tuple(l), o=ex.float_mean(P), r=res["ray"])[1:] == (2, start)  # where the clipping starts
     assert all(x == 0 or abs(x) >= 2.0**-128 for x in res["kernel"]), res["kernel"]
-    assert res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l))[1]
+    assert res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l), start)[1]
     assert res["passed"] and ex.contour_test(P, tuple(l), o=res["kernel"], r=res["ray"])[0]
 
 
@@ -250,11 +252,12 @@ def test_kernel_retry_finds_a_kernel_off_the_line_search():
     P = [tuple(p) for p in pts]
     area = ex.kernel_area(P, tuple(l))[0]
     assert area > 0, "the loop is star-shaped"
-    assert CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))["reason"] == 2
+    first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
+    assert first["reason"] == 2
     assert ex.sct_candidate(P, tuple(l))[0] is None
     assert CT.sct_contour_test(ids, pts, l)["reason"] == 6  # no kernel point on the search line
     res = CT.contour_test(ids, pts, l)
-    assert res["passed"] and res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l))[1]
+    assert res["passed"] and res["kernel"] == ex.clipped_kernel_candidate(P, tuple(l), first["edge"])[1]
     assert ex.contour_test(P, tuple(l), o=res["kernel"], r=res["ray"])[0]
     assert projected_simple(pts, l)
 
@@ -273,12 +276,12 @@ def test_kernel_retry_falls_back_to_the_line_search_beyond_64_corners():
     l = np.array([0.0, 0.0, 1.0])
     ids = np.arange(len(pts), dtype=np.int32)
     P = [tuple(p) for p in pts]
-    status, _, clipped = ex.clipped_kernel_candidate(P, tuple(l))
-    assert status == "too_many_corners"
     first = CT.contour_test(ids, pts, l, o=np.array(ex.float_mean(P)))
     assert first["reason"] == 2
+    status, _, clipped = ex.clipped_kernel_candidate(P, tuple(l), first["edge"])
+    assert status == "too_many_corners"
     res = CT.contour_test(ids, pts, l)
-    assert res["passed"] and res["kernel"] == ex.sct_candidate(P, tuple(l))[0] == ex.kernel_candidate(P, tuple(l))
+    assert res["passed"] and res["kernel"] == ex.sct_candidate(P, tuple(l))[0] == ex.kernel_candidate(P, tuple(l), first["edge"])
     assert res["edges_visited"] == first["edges_visited"] + clipped + len(pts) + len(pts)
 
 

@@ -86,10 +86,10 @@ inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t 
         });
     };
     const Vec3 m0 = kernel_point(loop, n, V0), m1 = kernel_point(loop, n, V1);
-    const auto find = [&](ProjectionScratch& s, Ends& o, int32_t& searched) {
+    const auto find = [&](ProjectionScratch& s, Ends& o, int32_t& searched, int32_t edge) {
         int32_t searched0 = 0, searched1 = 0;
-        const bool found = find_kernel_point(loop, n, V0, l, m0, s, o.first, searched0) &&
-                           find_kernel_point(loop, n, V1, l, m1, s, o.second, searched1);
+        const bool found = find_kernel_point(loop, n, V0, l, m0, s, o.first, searched0, edge) &&
+                           find_kernel_point(loop, n, V1, l, m1, s, o.second, searched1, edge);
         searched = searched0 + searched1;
         return found;
     };

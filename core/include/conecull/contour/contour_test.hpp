@@ -149,8 +149,9 @@ inline bool kernel_failed(const ContourVerdict& v) {
 }
 
 // The kernel-point retry of Alg. 1 and Alg. 3: `v` is the verdict with the mean (Alg. 1 line 2);
-// if that o is not in the kernel, find(scratch, o, searched) looks for a kernel point K of the
-// loop (find_kernel_point: the kernel polygon's centre; for CCD, K holds both ends), and test(o)
+// if that o is not in the kernel, find(scratch, o, searched, edge) looks for a kernel point K of
+// the loop (find_kernel_point from the edge where the mean failed: the kernel polygon's centre;
+// for CCD, K holds both ends), and test(o)
 // runs once more when there is one. A departure on the safe side: any o is valid, as every sign
 // is exact. The mean leaves the kernel of long bent contours (their vertices crowd one side), and
 // then the whole subtree below the node is traversed. The verdict is the last attempt's;
@@ -161,7 +162,7 @@ ContourVerdict with_kernel_retry(ContourVerdict v, Find find, Test test) {
     thread_local ProjectionScratch scratch;  // per thread: traversal tasks run on several
     K o{};
     int32_t searched = 0;
-    const bool found = find(scratch, o, searched);
+    const bool found = find(scratch, o, searched, v.edge);
     v.edges_visited += searched;
     if (!found) return v;
     const int32_t before = v.edges_visited;
@@ -177,7 +178,9 @@ inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, c
     const Vec3 m = kernel_point(loop, n, V);
     return with_kernel_retry<Vec3>(
         test(m),
-        [&](ProjectionScratch& s, Vec3& o, int32_t& searched) { return find_kernel_point(loop, n, V, l, m, s, o, searched); },
+        [&](ProjectionScratch& s, Vec3& o, int32_t& searched, int32_t edge) {
+            return find_kernel_point(loop, n, V, l, m, s, o, searched, edge);
+        },
         test);
 }
 

@@ -145,6 +145,27 @@ inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V,
 inline constexpr int kMaxKernelCorners = 64;
 enum class KernelSearch : uint8_t { kFound, kEmpty, kTooManyCorners };
 
+// The clipping's order of the edges: from `start` (the edge where the mean failed the kernel
+// test: its line, or edge 0's, cuts the mean off the kernel) in steps of g, the largest g <= 0.618 n
+// coprime to n, so that every edge comes once. Why: consecutive edges of a loop each cut the
+// polygon a little and add a corner; edges spread around the loop cut it down to near the
+// kernel at once, so the polygon keeps fewer corners (each clip costs O(corners)) and an empty
+// kernel shows sooner. Measured on the 64K folding sheet (`bench contour`, same nodes tested and
+// passed): contour time 0.75x in DCD, 0.91x in CCD, against the loop's own order from edge 0.
+inline int32_t clip_stride(int32_t n) {
+    auto gcd = [](int64_t a, int64_t b) {
+        while (b != 0) {
+            const int64_t t = a % b;
+            a = b;
+            b = t;
+        }
+        return a;
+    };
+    int64_t g = static_cast<int64_t>(n) * 618 / 1000;
+    while (g > 1 && gcd(g, n) != 1) --g;
+    return g < 1 ? 1 : static_cast<int32_t>(g);
+}
+
 // The kernel of the loop projected along l (ProjectionFrame coordinates relative to its first
 // vertex c): the polygon where every edge (a, b) sees p on its inner side,
 // sg cross2(b - a, p - a) > 0, sg the orientation of the projected loop (its signed area). Start
@@ -152,9 +173,10 @@ enum class KernelSearch : uint8_t { kFound, kEmpty, kTooManyCorners };
 // edge's line at a time (Sutherland-Hodgman against one half-plane). o = the 3D point that
 // projects to the mean of the corners: inside the kernel if the polygon is proper. Rounding
 // only moves o; the contour test that follows decides with exact signs whether o works.
-// `visited`: the edges examined (each edge clips once).
+// The edges clip in clip_stride's order from edge `start`. `visited`: the edges examined (each
+// edge clips once).
 inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const double* V, const ProjectionFrame& f,
-                                         ProjectionScratch& s, Vec3& o, int32_t& visited) {
+                                         ProjectionScratch& s, Vec3& o, int32_t& visited, int32_t start = 0) {
     s.X.resize(n);
     s.Y.resize(n);
     double* X = s.X.data();
@@ -175,8 +197,10 @@ inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const d
     double px[2][2 * kMaxKernelCorners + 2], py[2][2 * kMaxKernelCorners + 2];
     int cur = 0, k = 4;
     px[0][0] = x0, py[0][0] = y0, px[0][1] = x1, py[0][1] = y0, px[0][2] = x1, py[0][2] = y1, px[0][3] = x0, py[0][3] = y1;
-    for (int32_t i = 0; i < n; ++i) {
-        visited = i + 1;
+    const int32_t g = clip_stride(n);
+    int32_t i = start >= 0 && start < n ? start : 0;
+    for (int32_t step = 0; step < n; ++step, i = i + g < n ? i + g : i + g - n) {
+        visited = step + 1;
         const int32_t j = i + 1 == n ? 0 : i + 1;
         const double ax = X[i], ay = Y[i], ex = X[j] - ax, ey = Y[j] - ay;
         if (ex == 0.0 && ey == 0.0) continue;  // an edge along l: floats do not resolve its line
@@ -211,12 +235,13 @@ inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const d
     return in_predicate_domain(o) ? KernelSearch::kFound : KernelSearch::kEmpty;
 }
 
-// A kernel point for the loop at V other than its mean m: clipped_kernel_point, or, if the
-// kernel polygon grows too many corners, the line search through m. False if neither finds one.
+// A kernel point for the loop at V other than its mean m: clipped_kernel_point (from edge
+// `start`), or, if the kernel polygon grows too many corners, the line search through m. False
+// if neither finds one.
 inline bool find_kernel_point(const int32_t* loop, int32_t n, const double* V, const Vec3& l, const Vec3& m,
-                              ProjectionScratch& s, Vec3& o, int32_t& visited) {
+                              ProjectionScratch& s, Vec3& o, int32_t& visited, int32_t start = 0) {
     const ProjectionFrame f = projection_frame(l);
-    const KernelSearch k = clipped_kernel_point(loop, n, V, f, s, o, visited);
+    const KernelSearch k = clipped_kernel_point(loop, n, V, f, s, o, visited, start);
     if (k != KernelSearch::kTooManyCorners) return k == KernelSearch::kFound;
     double d1;
     int32_t searched = 0;
