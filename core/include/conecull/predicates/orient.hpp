@@ -31,8 +31,8 @@ inline constexpr int kUnknownSign = 2;
 // sign(((b - a) x (c - a)) . (d - a)): +1 when d lies on the side the right-hand normal of
 // triangle (a, b, c) points to. FilteredPlane(a, b, c).sign(d): the filter only (kUnknownSign if
 // unproven), for callers that test several points against one plane (the normal's products are
-// computed once: the triangle-triangle test's plane stage costs 2.4x less than three separate
-// filters) or have a cheaper way around the exact fallback. Bit for bit the arithmetic of
+// computed once; with strictly_one_side, elementary DCD time 0.89-0.92x on the real steps) or
+// have a cheaper way around the exact fallback. Bit for bit the arithmetic of
 // Shewchuk's filter with the vertex a subtracted: det = n . (d - a) with n's components the
 // rounded differences of the products m_i, perm the matching sum of |m_i| |d_k - a_k|.
 struct FilteredPlane {
