@@ -31,6 +31,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--ccd", action="store_true", help="continuous: frame k shows the step from frame k to k + 1")
     p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
                    help="CCD arithmetic (default exact)")
+    p.add_argument("--compare", help="comma-separated methods also run on every frame, untraced, their "
+                                     "contour-test time and counters plotted under stats/compare (e.g. nc,sct,cbc)")
 
     p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
@@ -206,16 +208,20 @@ def _run(args) -> int:
     if args.command == "record":
         from conecull.app.demo import rerun_command
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
-        from conecull.viz.checks import check_depth
+        from conecull.viz.checks import check_compare, check_depth
         from conecull.viz.rerun_sink import record
 
         check_depth(args.depth, "--depth")
+        compare = None
+        if args.compare is not None:
+            compare = [m.strip() for m in args.compare.split(",")]
+            check_compare(compare, args.ccd, "--compare")
         _check_out_file(args.out)
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
                        progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
-                       arithmetic=args.arithmetic)
+                       arithmetic=args.arithmetic, compare=compare)
         kind = f"CCD steps ({args.arithmetic})" if args.ccd else "frames"
         print(f"wrote {args.out}: {len(stats)} {kind}, {len(F)} triangles, method {args.method}; "
               f"open it with: {rerun_command(args.out)}")

@@ -31,6 +31,22 @@ def check_method(value, ccd: bool = False, name: str = "method") -> str:
     return value
 
 
+def check_compare(value, ccd: bool = False, name: str = "compare") -> tuple[str, ...]:
+    """Methods to run beside a recording's own (record's compare=): None or a sequence of
+    distinct method names, each valid for the query kind."""
+    if value is None:
+        return ()
+    if isinstance(value, str) or not hasattr(value, "__iter__"):
+        raise ValueError(f"{name}: expected a list of method names, got {value!r}")
+    out = tuple(value)
+    for m in out:
+        check_method(m, ccd, name)
+    dup = sorted({m for m in out if out.count(m) > 1})
+    if dup:
+        raise ValueError(f"{name}: {', '.join(map(repr, dup))} given twice")
+    return out
+
+
 def check_arithmetic(value, name: str = "arithmetic") -> str:
     import conecull
 

@@ -13,6 +13,9 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end)
   /front/mesh             Mesh3D (front methods): each face coloured by how many BVTT front
                           entries reach it (SelfCollider.front_load), in a second 3D tab
+  /stats/compare/<method>/...  Scalars (record's compare=): per compared method, run untraced on
+                          its own collider: contour-test ms, contour tests, elementary tests,
+                          query ms ("nc+front" is logged as nc_front)
 For CCD recordings frame k shows the step from frame k to frame k + 1.
 """
 
@@ -20,6 +23,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import time
 
 import numpy as np
 import rerun as rr
@@ -27,19 +31,31 @@ import rerun.blueprint as rrb
 
 from conecull.datasets import checks
 from conecull.viz import layers as L
-from conecull.viz.checks import check_arithmetic, check_depth, check_flag, check_frame_range, check_method
+from conecull.viz.checks import (check_arithmetic, check_compare, check_depth, check_flag, check_frame_range,
+                                 check_method)
 
 MAX_LOG_LINES = 300  # per frame; the count of the rest is logged
 
 
-def blueprint(front: bool = False) -> rrb.Blueprint:
+def compare_path(method: str) -> str:
+    """Where record(compare=...) logs a method's series ('+' is not an entity path character)."""
+    return f"/stats/compare/{method.replace('+', '_')}"
+
+
+def blueprint(front: bool = False, compare: tuple = ()) -> rrb.Blueprint:
     views = rrb.Spatial3DView(origin="/scene", name="mesh and culling")
     if front:
         views = rrb.Tabs(views, rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"))
+    stats = rrb.TimeSeriesView(origin="/stats", contents=["$origin/**", "- /stats/compare/**"], name="stats")
+    if compare:  # the compared methods in their own plots: one for the contour-test time, one for all
+        stats = rrb.Tabs(stats,
+                         rrb.TimeSeriesView(origin="/stats/compare", name="contour-test ms per method",
+                                            contents=[f"+ {compare_path(m)}/contour_ms" for m in compare]),
+                         rrb.TimeSeriesView(origin="/stats/compare", name="methods compared"))
     return rrb.Blueprint(
         rrb.Horizontal(
             views,
-            rrb.Vertical(rrb.TimeSeriesView(origin="/stats", name="stats"), rrb.TextLogView(origin="/log", name="why not culled")),
+            rrb.Vertical(stats, rrb.TextLogView(origin="/log", name="why not culled")),
             column_shares=[3, 2],
         ),
         collapse_panels=True,
@@ -50,11 +66,11 @@ class RerunRecorder:
     """Writes one .rrd; `log_frame` once per frame, then `close`."""
 
     def __init__(self, path: str, faces: np.ndarray, *, recording_id: str | None = None, bvh_depth: int = 4,
-                 app_id: str = "conecull", front: bool = False):
+                 app_id: str = "conecull", front: bool = False, compare: tuple = ()):
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
         self.rec.set_log_time_enabled(False)  # deterministic recordings: frame timeline only
         self.rec.save(path)
-        self.rec.send_blueprint(blueprint(front))
+        self.rec.send_blueprint(blueprint(front, compare))
         self.faces = np.asarray(faces)
         self.bvh_depth = bvh_depth
         legend = "\n".join(f"- **{n}**: rgb{tuple(int(c) for c in L.STATUS_COLORS[i])}" for i, n in enumerate(L.STATUS_NAMES))
@@ -124,21 +140,35 @@ class RerunRecorder:
             rec.log("/log", rr.TextLog(f"... and {len(lay.sentences) - MAX_LOG_LINES} more failing nodes", level=rr.TextLogLevel.INFO))
         return lay
 
+    def log_compare(self, frame: int, method: str, stats: dict, query_ms: float):
+        """One compared method's counters and times at `frame` (an untraced query)."""
+        self.rec.set_time("frame", sequence=frame)
+        base = compare_path(method)
+        self.rec.log(f"{base}/contour_ms", rr.Scalars(1e3 * stats["seconds_contour"]))
+        self.rec.log(f"{base}/contour_tests", rr.Scalars(stats["contour_tests"]))
+        self.rec.log(f"{base}/elementary_tests", rr.Scalars(stats["elementary_tests"]))
+        self.rec.log(f"{base}/query_ms", rr.Scalars(query_ms))
+
     def close(self):
         self.rec.flush()
         self.rec.disconnect()
 
 
 def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, recording_id: str | None = None,
-           bvh_depth: int = 4, progress=None, ccd: bool = False, arithmetic: str = "exact") -> list:
+           bvh_depth: int = 4, progress=None, ccd: bool = False, arithmetic: str = "exact", compare=None) -> list:
     """Record a sequence; returns the per-frame stats. The BVH is built from frames[0].
     frames: (T, n, 3) positions (array-like); frame_range: indices in [0, T) (default all).
     With ccd=True, frame k shows the CCD step from frame k to k + 1 (the last frame has no step).
+    compare: methods (e.g. ["nc", "sct", "cbc"]) also run on every frame, untraced, each on its
+    own collider fed the same frames, their contour-test time and counters logged under
+    /stats/compare (tracing slows the recorded query, so time the recorded method by listing it
+    too); with exact arithmetic their collisions are checked equal to the recorded method's.
     Every argument is checked before any work, each error naming it."""
     import conecull
 
     ccd = check_flag(ccd, "ccd")
     method = check_method(method, ccd)
+    compare = check_compare(compare, ccd)
     arithmetic = check_arithmetic(arithmetic)  # even without ccd: a typo is a typo
     bvh_depth = check_depth(bvh_depth)
     if progress is not None and not callable(progress):
@@ -162,8 +192,11 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
     checks.writable_file("path", path)  # rerun would say so only after the first query
     col = conecull.SelfCollider(mesh, method=method)
     _query(col.dcd, "frame 0", frames[0])  # node ids depend only on the first pose: stable across commands
+    others = {m: conecull.SelfCollider(mesh, method=m) for m in compare}
+    for other in others.values():
+        other.dcd(frames[0])  # the same BVH as the recorded collider's
     rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth,
-                        front=method.endswith("+front"))
+                        front=method.endswith("+front"), compare=compare)
     out = []
     try:
         for i, k in enumerate(frame_range):
@@ -174,6 +207,17 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
             else:
                 res = _query(col.dcd, f"frame {k}", frames[k], trace=True)
                 rec.log_frame(k, col, frames[k], res)
+            for m, other in others.items():
+                t0 = time.perf_counter()
+                r = other.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else other.dcd(frames[k])
+                ms = 1e3 * (time.perf_counter() - t0)
+                if not ccd or arithmetic == "exact":  # float / conservative answers depend on the candidates
+                    same = (np.array_equal(r.vf, res.vf) and np.array_equal(r.ee, res.ee)) if ccd else \
+                        np.array_equal(r.pairs, res.pairs)
+                    if not same:
+                        raise RuntimeError(f"compare: method {m!r} found other collisions than {method!r} at frame "
+                                           f"{k}; every method must agree: please report this as a bug")
+                rec.log_compare(k, m, r.stats, ms)
             out.append(res.stats)
             if progress:
                 progress(i + 1, len(frame_range))

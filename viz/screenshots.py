@@ -33,16 +33,18 @@ def _browser(p):
 
 
 def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution: int | None = None,
-                     method: str = "nc", front_view: bool = False, wait: float = 12.0) -> None:
+                     method: str = "nc", front_view: bool = False, wait: float = 12.0, compare: tuple = ()) -> None:
     """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC.
-    front_view: show the BVTT front on the mesh and its growth instead (a +front method)."""
+    front_view: show the BVTT front on the mesh and its growth instead (a +front method).
+    compare: also run these methods on each frame, as `record --compare` does, and show their
+    contour-test time and contour tests instead of the stats."""
     import rerun as rr
     import rerun_cli
     from playwright.sync_api import sync_playwright
 
     import conecull
     from conecull.datasets.inputs import load_sequence
-    from conecull.viz.rerun_sink import RerunRecorder, blueprint
+    from conecull.viz.rerun_sink import RerunRecorder, blueprint, compare_path
 
     web, grpc = _free_port(), _free_port()
     exe = os.path.join(os.path.dirname(rerun_cli.__file__), "rerun")
@@ -63,11 +65,28 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
                 rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"),
                 rrb.TimeSeriesView(origin="/stats/front", name="front entries, added, removed"),
                 column_shares=[3, 2]), collapse_panels=True))
+        elif compare:
+            import rerun.blueprint as rrb
+
+            rec.rec.send_blueprint(rrb.Blueprint(rrb.Horizontal(
+                rrb.Spatial3DView(origin="/scene", name="mesh and culling"),
+                rrb.Vertical(*(rrb.TimeSeriesView(origin="/stats/compare", name=title,
+                                                  contents=[f"+ {compare_path(m)}/{key}" for m in compare])
+                               for key, title in (("contour_ms", "contour-test ms per method"),
+                                                  ("contour_tests", "contour tests per method")))),
+                column_shares=[3, 2]), collapse_panels=True))
         else:
             rec.rec.send_blueprint(blueprint(method.endswith("+front")))
         rec.faces, rec.bvh_depth = conecull.Mesh(F).faces, 4
+        others = {m: conecull.SelfCollider(conecull.Mesh(F), method=m) for m in compare}
+        for other in others.values():
+            other.dcd(frames[0])
         for k in range(frame + 1):
             rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True))
+            for m, other in others.items():
+                t0 = time.perf_counter()
+                r = other.dcd(frames[k])
+                rec.log_compare(k, m, r.stats, 1e3 * (time.perf_counter() - t0))
         rec.rec.flush()
         with sync_playwright() as p:
             ctx = _browser(p)
@@ -121,4 +140,7 @@ if __name__ == "__main__":
     rerun_screenshot(os.path.join(out, "rerun-funnel.png"), scene="funnel", frame=40)
     rerun_screenshot(os.path.join(out, "rerun-front.png"), scene="fold", frame=26, method="nc+front", front_view=True,
                      wait=40.0)
-    print(f"wrote {out}/viser.png, {out}/rerun.png, {out}/rerun-funnel.png and {out}/rerun-front.png")
+    rerun_screenshot(os.path.join(out, "rerun-compare.png"), scene="fold", frame=29, compare=("nc", "sct", "cbc"),
+                     wait=30.0)
+    print(f"wrote {out}/viser.png, {out}/rerun.png, {out}/rerun-funnel.png, {out}/rerun-front.png and "
+          f"{out}/rerun-compare.png")

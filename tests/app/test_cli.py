@@ -140,6 +140,9 @@ def test_bench_from_json_names_a_bad_file(tmp_path, capsys):
     (["record", "fold", "--ccd", "--method", "sct"], "--method: 'sct' is a discrete (DCD) method"),
     (["record", "fold", "--resolution", "1"], "--resolution: expected an integer >= 3"),
     (["record", "fold", "--out", "/proc/conecull-test.rrd"], "--out: cannot write '/proc/conecull-test.rrd'"),
+    (["record", "fold", "--compare", "nc,nc"], "--compare: 'nc' given twice"),
+    (["record", "fold", "--compare", "nc,"], "--compare: expected one of aabb, nc, aabb+front, nc+front, sct, cbc, got ''"),
+    (["record", "fold", "--ccd", "--compare", "cbc,sct"], "--compare: 'sct' is a discrete (DCD) method"),
 ])
 def test_cli_errors_name_the_option(argv, msg, capsys):
     """Exit code 2 and the option named, before any work (no hang, no traceback)."""

@@ -1,5 +1,6 @@
 """Record a generated scene headless, read the .rrd back and check it against the core."""
 
+import dataclasses
 import os
 
 import numpy as np
@@ -124,6 +125,10 @@ def small():
     ({"method": "sct", "ccd": True}, "method: 'sct' is a discrete"),
     ({"path": "/proc/conecull-test.rrd"}, "path: cannot write '/proc/conecull-test.rrd'"),
     ({"progress": 5}, "progress: expected None or a function"),
+    ({"compare": "nc"}, "compare: expected a list of method names, got 'nc'"),
+    ({"compare": ["nc", "sct", "nc"]}, "compare: 'nc' given twice"),
+    ({"compare": ["nc", "xx"]}, "compare: expected one of .*, got 'xx'"),
+    ({"compare": ["sct"], "ccd": True}, "compare: 'sct' is a discrete"),
 ])
 def test_record_names_bad_arguments(small, tmp_path, kwargs, match):
     """Each bad argument is refused up front with its name: no IndexError or AttributeError
@@ -145,3 +150,58 @@ def test_record_takes_nested_lists(small, tmp_path):
     F, P = small
     stats = record(str(tmp_path / "r.rrd"), F.tolist(), P.tolist(), frame_range=[0, 5])
     assert len(stats) == 2
+
+
+def _replay(F, frames, method, ccd=False):
+    """Untraced queries of `method` on a fresh collider fed frames[0], then each frame (or step)."""
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=method)
+    col.dcd(frames[0])
+    if ccd:
+        return [col.ccd(frames[k], frames[k + 1]).stats for k in range(len(frames) - 1)]
+    return [col.dcd(V).stats for V in frames]
+
+
+@pytest.mark.parametrize("ccd,methods", [(False, ("nc", "sct", "cbc", "nc+front")), (True, ("nc", "cbc", "aabb+front"))])
+def test_compare_logs_each_method(tmp_path, ccd, methods):
+    """record(compare=...) plots, per compared method and frame, its contour tests and
+    elementary tests (equal to a replay of the same untraced queries: the counters are
+    deterministic), its contour-test time (> 0 where it ran contour tests) and its query time."""
+    F, frames = load_sequence("fold")
+    frames = frames[24:30]  # folding through itself: contour tests fail and pass, contacts from frame 28
+    path = str(tmp_path / "cmp.rrd")
+    stats = record(path, F, frames, method="nc", ccd=ccd, compare=methods, recording_id="test-compare")
+    assert stats[-1]["colliding_pairs"] > 0  # the methods' agreement is checked on real contacts
+    n = len(frames) - 1 if ccd else len(frames)
+    for m in methods:
+        want = _replay(F, frames, m, ccd)
+        base = f"/stats/compare/{m.replace('+', '_')}"
+        got = {key: rows_by_frame(path, f"{base}/{key}", "Scalars:scalars")
+               for key in ("contour_tests", "elementary_tests", "contour_ms", "query_ms")}
+        for key in got:
+            assert sorted(got[key]) == list(range(n)), (m, key)
+        for key in ("contour_tests", "elementary_tests"):
+            assert [got[key][k][0] for k in range(n)] == [s[key] for s in want], (m, key)
+        assert all((got["contour_ms"][k][0] > 0) == (want[k]["contour_tests"] > 0) for k in range(n)), m
+        assert all(got["query_ms"][k][0] > 0 for k in range(n)), m
+    assert max(s["contour_tests"] for s in _replay(F, frames, "cbc", ccd)) > 0
+
+
+def test_compare_refuses_a_method_that_disagrees(tmp_path, monkeypatch):
+    """Methods must agree on the collisions: a compared method that answers otherwise (here made
+    to drop one pair) stops the recording with a RuntimeError naming it and the frame, and
+    leaves no recording behind."""
+    F, frames = load_sequence("fold")
+    frames = frames[27:30]  # the fold intersects itself from frame 28 on
+    real = conecull.SelfCollider.dcd
+
+    def lossy(self, V, *args, **kwargs):
+        res = real(self, V, *args, **kwargs)
+        if self.method == "sct" and len(res.pairs):
+            return dataclasses.replace(res, pairs=res.pairs[1:])
+        return res
+
+    monkeypatch.setattr(conecull.SelfCollider, "dcd", lossy)
+    path = tmp_path / "cmp.rrd"
+    with pytest.raises(RuntimeError, match=r"compare: method 'sct' found other collisions than 'nc' at frame \d"):
+        record(str(path), F, frames, method="nc", compare=["sct"], recording_id="test-disagree")
+    assert not path.exists()
