@@ -107,11 +107,14 @@ class ViewerApp:
                             for i, n in enumerate(L.STATUS_NAMES))
         gui.add_markdown(legend)
         self.stats_md = gui.add_markdown("")
+        with gui.add_folder("methods at this frame"):
+            self.compare = gui.add_checkbox("compare all methods", initial_value=False)
+            self.compare_md = gui.add_markdown("")
         with gui.add_folder("selected node"):
             self.panel = gui.add_markdown("Click the mesh to select the node at the chosen depth that holds that triangle.")
 
         for handle in (self.frame, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
-                       self.show_cones, self.show_boxes):
+                       self.show_cones, self.show_boxes, self.compare):
             handle.on_update(lambda _event: self.update())
         self.update()
         self._player = threading.Thread(target=self._play_loop, daemon=True)
@@ -168,6 +171,20 @@ class ViewerApp:
                     + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
                        and not self.method.value.endswith("+front") else ""))
                 self._draw_selection()
+            self.compare_md.content = self._compare_table(V) if self.compare.value else ""
+
+    def _compare_table(self, V) -> str:
+        """Every method's untraced query at this pose: contour-test time (the contour tests of
+        Fig. 9, per method) and the counters. Each method has its own collider (its own front)."""
+        rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms |",
+                "|---|---|---|---|---|---|"]
+        for m, col in self.colliders.items():
+            t0 = time.perf_counter()
+            s = col.dcd(V).stats
+            ms = 1e3 * (time.perf_counter() - t0)
+            rows.append(f"| {m} | {s['contour_tests']} | {s['contour_passed']} | {1e3 * s['seconds_contour']:.3f} | "
+                        f"{s['elementary_tests']} | {ms:.1f} |")
+        return "\n".join(rows)
 
     def _on_click(self, event):
         face = ray_triangle_hit(event.ray_origin, event.ray_direction, self.V[self.faces])

@@ -1,4 +1,4 @@
-"""The viser app's server side (no browser): the front-load colouring."""
+"""The viser app's server side (no browser): the front-load colouring, the methods table."""
 
 import numpy as np
 
@@ -66,3 +66,32 @@ def test_printed_address_is_the_served_host(capsys, monkeypatch):
     viser_app.serve_forever(App())
     out = capsys.readouterr().out
     assert "open http://127.0.0.1:1234 (Ctrl+C to stop, listening on all interfaces (0.0.0.0))" in out
+
+
+def test_viewer_compares_methods_at_the_frame():
+    """"compare all methods" fills a table with every method's counters at the shown frame, as
+    an untraced query of that method on a fresh collider fed the same frames gives them; off,
+    the table is empty."""
+    import conecull
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("fold")
+    app = ViewerApp(F, frames, port=free_port(), method="nc")
+    try:
+        app.frame.value = 28
+        app.update()
+        assert app.compare_md.content == ""
+        app.compare.value = True
+        app.update()
+        rows = [r.split("|")[1:-1] for r in app.compare_md.content.splitlines()[2:]]
+        assert [r[0].strip() for r in rows] == list(conecull.METHODS)
+        for r in rows:
+            col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=r[0].strip())
+            col.dcd(frames[0])
+            s = col.dcd(frames[28]).stats
+            assert [int(r[1]), int(r[2]), int(r[4])] == [s["contour_tests"], s["contour_passed"], s["elementary_tests"]]
+            assert (float(r[3]) > 0) == (s["contour_tests"] > 0) and float(r[5]) > 0
+        assert len({r[1] for r in rows}) > 1  # the methods really differ
+    finally:
+        app.close()
