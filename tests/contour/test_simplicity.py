@@ -1,0 +1,146 @@
+"""The simplicity fallback of "nc" (DCD, contour_test_simple.hpp): after Alg. 1 fails, a node is
+still culled if its contour projected along l is a simple polygon. Checked against an exact
+twin (fractions: every pair of edges, closed segments in the exact projection), against the
+cbc test's all-pairs version of the same predicates (the sweep may skip only pairs that cannot
+meet), and in the traversal against the brute-force oracle."""
+
+from fractions import Fraction as Fr
+
+import numpy as np
+import pytest
+
+import conecull
+import exact_twin as ex
+from conecull._core import contour as CT
+from oracle import brute_force_pairs
+
+
+def _proj(p, l):
+    """p projected on the plane perpendicular to l, exactly."""
+    p, l = ex.fr3(p), ex.fr3(l)
+    k = ex.dot(p, l) / ex.dot(l, l)
+    return tuple(p[i] - k * l[i] for i in range(3))
+
+
+def _on_segment(x, a, b, l):
+    """x on the closed projected segment [a, b] (exact)."""
+    if ex.side_sign(a, b, x, l) != 0:
+        return False
+    xa, xb = ex.sub(_proj(x, l), _proj(a, l)), ex.sub(_proj(x, l), _proj(b, l))
+    return ex.dot(xa, xb) <= 0
+
+
+def exact_simple(pts, l) -> bool:
+    """The loop projected along l is a simple polygon: non-adjacent edges do not meet (closed
+    segments), adjacent ones meet only at their shared vertex. Exact (fractions)."""
+    n = len(pts)
+    for i in range(n):
+        a, b, c = pts[i], pts[(i + 1) % n], pts[(i + 2) % n]
+        if ex.side_sign(a, b, c, l) == 0:  # collinear neighbours: they overlap iff they turn back
+            ba, bc = ex.sub(_proj(a, l), _proj(b, l)), ex.sub(_proj(c, l), _proj(b, l))
+            if ex.dot(ba, bc) > 0 or _proj(a, l) == _proj(b, l) or _proj(c, l) == _proj(b, l):
+                return False
+    for i in range(n):
+        for j in range(i + 2, n):
+            if i == 0 and j == n - 1:
+                continue  # adjacent through the closing edge
+            a, b, c, d = pts[i], pts[(i + 1) % n], pts[j], pts[(j + 1) % n]
+            s1, s2 = ex.side_sign(a, b, c, l), ex.side_sign(a, b, d, l)
+            s3, s4 = ex.side_sign(c, d, a, l), ex.side_sign(c, d, b, l)
+            if s1 * s2 < 0 and s3 * s4 < 0:
+                return False
+            if (_on_segment(c, a, b, l) or _on_segment(d, a, b, l) or _on_segment(a, c, d, l)
+                    or _on_segment(b, c, d, l)):
+                return False
+    return True
+
+
+def _loops():
+    """Random loops: wobbly circles (simple), with spikes pushed across (often not), bent into a C
+    (simple, not star-shaped), on a coarse grid (touching and collinear edges), tilted out of the
+    plane of projection, with random axes l."""
+    rng = np.random.default_rng(7)
+    out = []
+    for k in range(160):
+        n = int(rng.integers(3, 40))
+        t = np.sort(rng.uniform(0, 2 * np.pi, n))
+        r = 1 + 0.3 * rng.uniform(-1, 1, n)
+        kind = k % 4
+        if kind == 1:  # some vertices pushed far across the loop
+            r[rng.integers(0, n, 2)] *= -1.5
+        if kind == 2:  # a C: the angles squeezed into 300 degrees, a thin inner arc
+            t = np.linspace(0, 5.2, n // 2 + 2)
+            t = np.concatenate([t, t[::-1]])
+            r = np.concatenate([np.full(len(t) // 2, 1.0), np.full(len(t) // 2, 0.7)])
+        P = np.stack([r * np.cos(t), r * np.sin(t), 0.05 * rng.uniform(-1, 1, len(t))], axis=1)
+        if kind == 3:
+            P = np.round(P * 2) / 2  # grid: repeated points, collinear runs, touching edges
+        l = np.array([0.0, 0.0, 1.0]) + 0.3 * rng.uniform(-1, 1, 3)
+        out.append((P, l))
+    return out
+
+
+@pytest.mark.parametrize("case", range(160))
+def test_simplicity_test_matches_exact_twin_and_cbc(case):
+    P, l = _loops()[case]
+    ids = np.arange(len(P), dtype=np.int32)
+    res = CT.simplicity_test(ids, P, l)
+    pts = [tuple(p) for p in P]
+    truth = exact_simple(pts, tuple(l))
+    if res["passed"]:
+        assert truth, "passed a loop whose projection is not simple"
+    else:
+        assert res["reason"] == 7 and 0 <= res["edge"] < len(P) and 0 <= res["other_edge"] < len(P)
+    # The sweep skips only pairs that cannot meet: the same answer as all pairs with the same predicates.
+    assert res["passed"] == CT.cbc_contour_test(ids, P, l)["passed"]
+    if truth and case % 4 != 3:  # off the grid no point lies exactly on another edge's line
+        assert res["passed"], "a simple loop in general position failed"
+
+
+def test_the_loops_cover_both_answers():
+    verdicts = [CT.simplicity_test(np.arange(len(P), dtype=np.int32), P, l)["passed"] for P, l in _loops()]
+    assert 40 <= sum(verdicts) <= 120, sum(verdicts)
+
+
+def test_c_shape_is_simple_but_not_star_shaped():
+    """An E-shaped loop: Alg. 1 fails (its kernel is empty), the simplicity test passes; pushing
+    one vertex across an edge makes it fail, naming a crossing pair."""
+    pts = np.array([[0, 0, 0], [3, 0, 0], [3, 1, 0], [1, 1, 0], [1, 2, 0], [3, 2, 0], [3, 3, 0], [0, 3, 0]], float)
+    ids = np.arange(len(pts), dtype=np.int32)
+    l = np.array([0.0, 0.0, 1.0])
+    assert CT.contour_test(ids, pts, l)["reason"] == 2
+    assert CT.simplicity_test(ids, pts, l)["passed"]
+    pts[4] = [4, 0.5, 0]  # edge (3, 4) now crosses edge (1, 2)
+    res = CT.simplicity_test(ids, pts, l)
+    assert not res["passed"] and {res["edge"], res["other_edge"]} == {1, 3}
+    assert not exact_simple([tuple(p) for p in pts], tuple(l))
+
+
+@pytest.mark.parametrize("scene,frames", [("crumple", (0, 10, 20, 25, 29))])
+def test_nc_with_the_fallback_equals_the_oracle(scene, frames):
+    """In the traversal: nodes culled by the fallback (contour_passed_simple > 0), and the
+    colliding pairs exactly the brute force's."""
+    from conecull.datasets.inputs import load_sequence
+
+    F, X = load_sequence(scene)
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=X.shape[1]), method="nc")
+    col.dcd(X[0])
+    by_fallback = 0
+    for k in frames:
+        res = col.dcd(X[k])
+        by_fallback += res.stats["contour_passed_simple"]
+        assert res.stats["contour_passed_simple"] <= res.stats["contour_passed"]
+        assert {tuple(p) for p in res.pairs.tolist()} == brute_force_pairs(F, X[k]), (scene, k)
+    assert by_fallback > 0
+
+
+def test_a_vertex_touching_an_edge_fails():
+    """A loop that touches itself at one point (vertex (2, 0) on edge (0, 0)-(4, 0)) is not simple.
+    With l = z the sweep's axis is y, along which both edges start at 0: the pair sits exactly at
+    the edge of the sweep's window and must still be examined."""
+    pts = np.array([[0, 0, 0], [4, 0, 0], [4, 3, 0], [2, 0, 0], [1, 3, 0], [0, 3, 0]], float)
+    ids = np.arange(len(pts), dtype=np.int32)
+    l = np.array([0.0, 0.0, 1.0])
+    assert not exact_simple([tuple(p) for p in pts], tuple(l))
+    res = CT.simplicity_test(ids, pts, l)
+    assert not res["passed"] and {res["edge"], res["other_edge"]} == {0, 2}
