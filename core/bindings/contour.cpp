@@ -95,6 +95,20 @@ void bind_contour(py::module_& m) {
         "The simplicity fallback of \"nc\" (DCD): is the loop projected along l a simple polygon? The edge-pair\n"
         "predicates of the cbc test, on the pairs whose extents along one axis overlap (certified).");
     m.def(
+        "simplicity_test_ccd",
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
+            require_points(V0, "V0", -1, 3);
+            require_points(V1, "V1", V0.shape(0), 3);
+            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            SimplicityScratch scratch;
+            return verdict_dict(simplicity_test_ccd(loop.data(), static_cast<int32_t>(loop.shape(0)), V0.data(),
+                                                    V1.data(), axis, scratch));
+        },
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"),
+        "The simplicity fallback of \"nc\" over the step V0 -> V1: is the loop projected along l simple at\n"
+        "every t? The cbc test's continuous edge-pair predicates, on the pairs whose extents over the step\n"
+        "overlap (certified).");
+    m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
             require_points(V0, "V0", -1, 3);

@@ -144,3 +144,56 @@ def test_a_vertex_touching_an_edge_fails():
     assert not exact_simple([tuple(p) for p in pts], tuple(l))
     res = CT.simplicity_test(ids, pts, l)
     assert not res["passed"] and {res["edge"], res["other_edge"]} == {0, 2}
+
+
+def _moving(case):
+    """A loop of _loops() and a second pose: moved, turned a little about l and wobbled."""
+    P0, l = _loops()[case]
+    rng = np.random.default_rng(100 + case)
+    c, s = np.cos(0.2), np.sin(0.2)
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    P1 = P0 @ R.T + rng.uniform(-0.5, 0.5, 3) + 0.03 * rng.uniform(-1, 1, P0.shape)
+    if case % 4 == 3:
+        P1 = np.round(P1 * 2) / 2
+    return P0, P1, l
+
+
+@pytest.mark.parametrize("case", range(0, 160, 2))
+def test_simplicity_test_ccd_matches_exact_twin_and_cbc(case):
+    """Over a step: passed only if the projected loop is simple at t = 0, 1/3, 1/2 and 1 (exact
+    points at rational t), and passed wherever cbc's all-pairs continuous test passes. (Not iff:
+    cbc's continuous predicates are conservative, and a pair the sweep skips, its extents apart
+    over the whole step, may be one they cannot prove apart.)"""
+    P0, P1, l = _moving(case)
+    ids = np.arange(len(P0), dtype=np.int32)
+    res = CT.simplicity_test_ccd(ids, P0, P1, l)
+    if CT.cbc_contour_test_ccd(ids, P0, P1, l)["passed"]:
+        assert res["passed"]
+    if res["passed"]:
+        for t in (Fr(0), Fr(1, 3), Fr(1, 2), Fr(1)):
+            pts = [ex.lerp(p0, p1, t) for p0, p1 in zip(P0, P1)]
+            assert exact_simple(pts, tuple(l)), f"passed, but not simple at t = {t}"
+
+
+def test_the_moving_loops_cover_both_answers():
+    verdicts = [CT.simplicity_test_ccd(np.arange(len(P0), dtype=np.int32), P0, P1, l)["passed"]
+                for P0, P1, l in map(_moving, range(0, 160, 2))]
+    assert 15 <= sum(verdicts) <= 65, sum(verdicts)
+
+
+def test_nc_ccd_with_the_fallback_equals_the_brute_force():
+    """CCD in the traversal: steps of crumple where the fallback culls nodes, with exactly the
+    brute force's contacts (exact arithmetic)."""
+    from ccd_brute_force import brute_force_ccd
+    from conecull.datasets.inputs import load_sequence
+
+    F, X = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=X.shape[1]), method="nc")
+    col.dcd(X[0])
+    by_fallback = 0
+    for k in (5, 28):
+        res = col.ccd(X[k], X[k + 1])
+        by_fallback += res.stats["contour_passed_simple"]
+        vf, ee = brute_force_ccd(F, X[k], X[k + 1], "exact")
+        assert {tuple(p) for p in res.vf.tolist()} == vf and {tuple(p) for p in res.ee.tolist()} == ee, k
+    assert by_fallback > 0

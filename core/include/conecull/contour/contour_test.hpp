@@ -32,7 +32,7 @@ struct ContourVerdict {
     Vec3 kernel;             // o (CCD: o at t = 0)
     Vec3 kernel_end;         // o at t = 1 for CCD (the kernel point moves linearly, Alg. 3 here); DCD: o
     Vec3 ray;                // r
-    bool by_simplicity = false;  // "nc" (DCD): Alg. 1 failed, the simplicity fallback passed (contour_test_simple.hpp)
+    bool by_simplicity = false;  // "nc": Alg. 1 (Alg. 3) failed, the simplicity fallback passed (contour_test_simple.hpp)
     bool passed() const { return reason == ContourReason::kPassed; }
 };
 

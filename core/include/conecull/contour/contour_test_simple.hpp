@@ -1,4 +1,4 @@
-// The simplicity fallback of "nc" (ours; DCD): when Alg. 1 fails, the node is still free of
+// The simplicity fallback of "nc" (ours; DCD and CCD): when Alg. 1 (Alg. 3) fails, the node is still free of
 // self-collision if its contour projected along l is a simple polygon (contour.hpp: with the
 // cone bounded, a simple projected loop covers every point at most once), whether or not that
 // polygon is star-shaped. Alg. 1 proves "simple" through "star-shaped around o", a sufficient
@@ -29,15 +29,14 @@ struct SimplicityScratch {
     std::vector<int32_t> order;
 };
 
+// The test over `poses` positions of the loop (DCD: V; CCD: V0 and V1, the loop moving linearly
+// between them), with Signs deciding each pair for the whole motion (contour_test_cbc.hpp).
 // Certified: "passed" only if every pair of edges is proven apart in projection (adjacent ones:
 // meeting only at their shared vertex). Fails with kEdgesMayOverlap (edge, other_edge) at the
 // first pair not proven apart. edges_visited counts 2 per pair examined, as [TCYM09]'s test.
-inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
-                                      SimplicityScratch& s) {
-    ContourVerdict out;
-    out.kernel = kernel_point(loop, n, V);  // reported only (the test has no kernel point)
-    out.kernel_end = out.kernel;
-    const QuadraticSignsDiscrete signs{loop, V, l};
+template <class Signs>
+ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* const* poses, int n_poses, const Vec3& l,
+                               const int32_t* loop, SimplicityScratch& s, ContourVerdict out) {
     const auto fail = [&](int32_t i, int32_t j) {
         out.reason = ContourReason::kEdgesMayOverlap;
         out.edge = i;
@@ -50,31 +49,42 @@ inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const doub
         out.edges_visited += 2;
         if (!adjacent_edges_apart(signs, i, i1, i2)) return fail(i, i1);
     }
-    // Extents along u: X = fl(fl(p - c) . u) is within 9 eps D1 max|u_j| of the exact
-    // projection (kernel_point.hpp, project), D1 the largest |p - c|_1; |X| <= D1 max|u_j|, so
-    // a difference of two X is within a further 2 eps D1 max|u_j|. Pairs whose rounded extents
-    // are apart by more than `gap` are apart exactly.
+    // Extents along u: X = fl(fl(p - c) . u) is within ~4.02 eps D1 max|u_j| of the exact
+    // projection (kernel_point.hpp, project), D1 the largest |p - c|_1, and |X| <= D1 max|u_j|.
+    // c is one fixed point (the first vertex in the first pose), so for a loop moving linearly
+    // the exact X of every point is linear in t: an edge's extent over the motion lies within
+    // the hull of its ends' X in the poses. Pairs whose rounded extents are apart by more than
+    // `gap` are apart exactly, at every t.
     const ProjectionFrame f = projection_frame(l);
-    const Vec3 c = load(V, loop[0]);
-    s.x.resize(n);
+    const Vec3 c = load(poses[0], loop[0]);
+    s.x.resize(static_cast<size_t>(n) * n_poses);
     double d1 = 0.0;
-    for (int32_t i = 0; i < n; ++i) {
-        double y;
-        d1 = std::fmax(d1, project(load(V, loop[i]), c, f, s.x[i], y));
-    }
+    for (int k = 0; k < n_poses; ++k)
+        for (int32_t i = 0; i < n; ++i) {
+            double y;
+            d1 = std::fmax(d1, project(load(poses[k], loop[i]), c, f, s.x[static_cast<size_t>(k) * n + i], y));
+        }
     const double umax = std::fmax(std::fabs(f.u.x), std::fmax(std::fabs(f.u.y), std::fabs(f.u.z)));
-    const double gap = 32.0 * kEps * d1 * umax;  // each X within ~4.02 eps D1 max|u_j|: ample room
+    const double gap = 32.0 * kEps * d1 * umax;  // ample room over the 2 x 4.02 eps + rounding here
     if (!std::isfinite(gap)) return fail(0, 0);
     s.lo.resize(n);
     s.hi.resize(n);
     for (int32_t i = 0; i < n; ++i) {
-        const double a = s.x[i], b = s.x[i + 1 == n ? 0 : i + 1];
-        s.lo[i] = std::fmin(a, b);
-        s.hi[i] = std::fmax(a, b);
+        const int32_t i1 = i + 1 == n ? 0 : i + 1;
+        double lo = s.x[i], hi = s.x[i];
+        for (int k = 0; k < n_poses; ++k)
+            for (const int32_t v : {i, i1}) {
+                const double x = s.x[static_cast<size_t>(k) * n + v];
+                lo = std::fmin(lo, x);
+                hi = std::fmax(hi, x);
+            }
+        s.lo[i] = lo;
+        s.hi[i] = hi;
     }
     s.order.resize(n);
     for (int32_t i = 0; i < n; ++i) s.order[i] = i;
-    std::sort(s.order.begin(), s.order.end(), [&](int32_t a, int32_t b) { return s.lo[a] < s.lo[b] || (s.lo[a] == s.lo[b] && a < b); });
+    std::sort(s.order.begin(), s.order.end(),
+              [&](int32_t a, int32_t b) { return s.lo[a] < s.lo[b] || (s.lo[a] == s.lo[b] && a < b); });
     for (int32_t a = 0; a < n; ++a) {
         const int32_t i = s.order[a];
         for (int32_t b = a + 1; b < n; ++b) {
@@ -83,12 +93,31 @@ inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const doub
             const int32_t i1 = i + 1 == n ? 0 : i + 1, j1 = j + 1 == n ? 0 : j + 1;
             if (j == i1 || j1 == i) continue;  // adjacent: checked above
             out.edges_visited += 2;
-            if (!edges_apart(signs, std::min(i, j), std::min(i, j) + 1 == n ? 0 : std::min(i, j) + 1, std::max(i, j),
-                             std::max(i, j) + 1 == n ? 0 : std::max(i, j) + 1))
-                return fail(std::min(i, j), std::max(i, j));
+            const int32_t e = std::min(i, j), g = std::max(i, j);
+            if (!edges_apart(signs, e, e + 1 == n ? 0 : e + 1, g, g + 1 == n ? 0 : g + 1)) return fail(e, g);
         }
     }
     return out;
+}
+
+// DCD: the loop at V.
+inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
+                                      SimplicityScratch& s) {
+    ContourVerdict out;
+    out.kernel = kernel_point(loop, n, V);  // reported only (the test has no kernel point)
+    out.kernel_end = out.kernel;
+    const double* poses[1] = {V};
+    return simplicity_test(n, QuadraticSignsDiscrete{loop, V, l}, poses, 1, l, loop, s, out);
+}
+
+// CCD: the loop moving linearly from V0 to V1, l fixed (the CCD cone's axis): simple at every t.
+inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
+                                          const Vec3& l, SimplicityScratch& s) {
+    ContourVerdict out;
+    out.kernel = kernel_point(loop, n, V0);  // reported only, as the means at both ends
+    out.kernel_end = kernel_point(loop, n, V1);
+    const double* poses[2] = {V0, V1};
+    return simplicity_test(n, QuadraticSignsContinuous{loop, V0, V1, l}, poses, 2, l, loop, s, out);
 }
 
 }  // namespace conecull

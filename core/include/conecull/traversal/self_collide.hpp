@@ -57,12 +57,22 @@ struct Discrete {
         return v;
     }
 };
+// CCD: Alg. 3, then the simplicity fallback over the step (simple at every t).
 struct Continuous {
     static constexpr bool kContinuous = true;
     const double* V0;
     const double* V1;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        return unprojected_contour_test_ccd(loop, n, V0, V1, l);
+        ContourVerdict v = unprojected_contour_test_ccd(loop, n, V0, V1, l);
+        if (v.passed() || n > kMaxSimplicityEdges) return v;
+        thread_local SimplicityScratch scratch;
+        const ContourVerdict s = simplicity_test_ccd(loop, n, V0, V1, l, scratch);
+        v.edges_visited += s.edges_visited;
+        if (s.passed()) {
+            v.reason = ContourReason::kPassed;
+            v.by_simplicity = true;
+        }
+        return v;
     }
 };
 // Baselines (Sec. 6.1). "sct": the projected star-contour test of [SPO10] (DCD only).

@@ -14,7 +14,7 @@ struct DcdStats {
     int64_t contour_ineligible = 0;  // cone passed, but the node has no single simple contour
     int64_t contour_tests = 0;       // Alg. 1 runs
     int64_t contour_passed = 0;      // nodes culled
-    int64_t contour_passed_simple = 0;  // of which by the simplicity fallback ("nc", DCD: Alg. 1 failed)
+    int64_t contour_passed_simple = 0;  // of which by the simplicity fallback ("nc": Alg. 1 or 3 failed)
     int64_t contour_failed = 0;
     std::array<int64_t, 8> contour_reasons{};  // by ContourReason (kContourReasons)
     int64_t contour_edges = 0;       // contour edges visited by the contour test (cbc: 2 per edge pair)
