@@ -71,13 +71,14 @@ def main(argv: list[str] | None = None) -> int:
                         "and print the seconds each took")
 
     p = sub.add_parser("bench", help="benchmarks (tables on stdout, JSON in bench-results/)")
-    p.add_argument("suite", nargs="?", default="all", choices=["all", "dcd", "trace", "ccd", "contour", "threads", "first-hit"],
+    p.add_argument("suite", nargs="?", default="all", choices=["all", "dcd", "trace", "ccd", "contour", "threads", "first-hit", "front"],
                    help="all (default): the paper's evaluation on our scenes and the shared steps, with report.md, "
                         "PNG plots and JSON; dcd: methods and leaf sizes; trace: tracing overhead; "
                         "ccd: what accuracy costs in time; contour: contour test time, ours vs the sct and cbc "
                         "baselines (Fig. 9); threads: 1 thread vs --threads; first-hit: stop_at_first against the "
-                        "full DCD and CCD queries on the real steps and the generated fold")
-    p.add_argument("--scenes", help="all: comma-separated scenes (default the paper-sized ones: "
+                        "full DCD and CCD queries on the real steps and the generated fold; front: the front "
+                        "size table alone (Fig. 11, counters only) on --scenes")
+    p.add_argument("--scenes", help="all, front: comma-separated scenes (default the paper-sized ones: "
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")
     p.add_argument("--resolution", type=int, help="all: the scenes' resolution (default each scene's own)")
     p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
@@ -252,6 +253,10 @@ def _run(args) -> int:
         return _check(args)
     if args.command == "bench":
         _check_bench_args(args)
+    if args.command == "bench" and args.suite == "front":
+        from conecull.app.evaluation import run_front
+
+        return run_front(args)
     if args.command == "bench" and args.suite == "all":
         from conecull.app.evaluation import render_from_json, run_all
 

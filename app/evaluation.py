@@ -148,6 +148,33 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
     return rows
 
 
+def run_front(args) -> int:
+    """`conecull bench front`: Fig. 11 alone (front entries of nc+front against aabb+front after
+    each DCD query, every frame of each scene, at most the last COUNT_FRAMES), counters only, so
+    no timing and no repeats; JSON front.json."""
+    from conecull.datasets import load, names
+
+    scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
+    for name in scenes:
+        if name not in names():
+            raise ValueError(f"--scenes: unknown scene '{name}'; known: {', '.join(names())}")
+    threads = args.threads or 1
+    rows = []
+    for name in scenes:
+        F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
+        _, _, all_dcd = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb+front", "nc+front"), 1, threads=threads)
+        rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd})
+    _fig11_table(rows)
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.out, "front.json"), "w") as fh:
+        json.dump([{k: r[k] for k in ("scene", "triangles", "frames", "front_ratio")} |
+                   {"nc+front": [s["front_entries"] for s in r["all_frames"]["nc+front"]],
+                    "aabb+front": [s["front_entries"] for s in r["all_frames"]["aabb+front"]]} for r in rows],
+                  fh, indent=1, default=_json_default)
+    print(f"(JSON: {args.out}/front.json)")
+    return 0
+
+
 def _fig10_tables(rows, key):
     for kind, methods in (("dcd", DCD_METHODS), ("ccd", CCD_METHODS)):
         label = "DCD" if kind == "dcd" else "CCD (exact)"

@@ -1,4 +1,4 @@
-"""The benchmark sections other than `bench all` (dcd, trace, contour, threads, first-hit) run headless at toy
+"""The benchmark sections other than `bench all` (dcd, trace, contour, threads, first-hit, front) run headless at toy
 sizes and write their JSON. Their timings are not tested; their counters are, against the
 invariants of the methods (a front gives the candidates of a traversal from the root, cones only
 remove candidates, every method finds the same pairs)."""
@@ -81,3 +81,22 @@ def test_bench_first_hit(tmp_path):
 def test_bench_first_hit_bad_skip(capsys):
     assert main(["bench", "first-hit", "--skip", "scenes"]) == 2
     assert "--skip: first-hit can leave out 'steps' only" in capsys.readouterr().err
+
+
+def test_bench_front(tmp_path, capsys):
+    """Fig. 11 alone: per scene and frame the front entries of both front methods, whose ratio
+    (median over the frames with a front) is the table's, and nc+front keeps no more entries
+    than aabb+front on any frame (a culled node keeps no front)."""
+    import statistics
+
+    out = tmp_path / "front"
+    assert main(["bench", "front", "--scenes", "crumple,fold", "--out", str(out)]) == 0
+    rows = json.loads((out / "front.json").read_text())
+    assert [r["scene"] for r in rows] == ["crumple", "fold"]
+    for r in rows:
+        nc, ab = r["nc+front"], r["aabb+front"]
+        assert len(nc) == len(ab) == r["frames"] and all(a <= b for a, b in zip(nc, ab))
+        assert r["front_ratio"] == pytest.approx(statistics.median(a / b for a, b in zip(nc, ab) if b))
+    assert "| crumple |" in capsys.readouterr().out
+    assert main(["bench", "front", "--scenes", "crumple,nope", "--out", str(out)]) == 2
+    assert "--scenes: unknown scene 'nope'" in capsys.readouterr().err
