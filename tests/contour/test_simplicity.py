@@ -135,15 +135,18 @@ def test_nc_with_the_fallback_equals_the_oracle(scene, frames):
 
 
 def test_a_vertex_touching_an_edge_fails():
-    """A loop that touches itself at one point (vertex (2, 0) on edge (0, 0)-(4, 0)) is not simple.
-    With l = z the sweep's axis is y, along which both edges start at 0: the pair sits exactly at
-    the edge of the sweep's window and must still be examined."""
+    """A loop that touches itself at one point (vertex (2, 0) on edge (0, 0)-(4, 0)) is not simple,
+    and neither is one pinched at a point (two vertices at (2, 1))."""
     pts = np.array([[0, 0, 0], [4, 0, 0], [4, 3, 0], [2, 0, 0], [1, 3, 0], [0, 3, 0]], float)
     ids = np.arange(len(pts), dtype=np.int32)
     l = np.array([0.0, 0.0, 1.0])
     assert not exact_simple([tuple(p) for p in pts], tuple(l))
     res = CT.simplicity_test(ids, pts, l)
     assert not res["passed"] and {res["edge"], res["other_edge"]} == {0, 2}
+    pinched = np.array([[0, 0, 0], [2, 1, 0], [4, 0, 0], [4, 2, 0], [2, 1, 0], [0, 2, 0]], float)
+    assert not exact_simple([tuple(p) for p in pinched], tuple(l))
+    assert not CT.simplicity_test(ids, pinched, l)["passed"]
+    assert not CT.simplicity_test_ccd(ids, pinched, pinched + 0.25, l)["passed"]
 
 
 def _moving(case):

@@ -4,7 +4,7 @@
 // polygon is star-shaped. Alg. 1 proves "simple" through "star-shaped around o", a sufficient
 // condition; this test decides simplicity itself, with [TCYM09]'s certified edge-pair
 // predicates (contour_test_cbc.hpp), but only on the pairs that can meet: the edges' extents
-// along the frame axis u are sorted and swept, and a pair whose extents are apart by more than
+// along one direction of the projection plane are sorted and swept, and a pair whose extents are apart by more than
 // the projections' error bound cannot meet (a separating axis), so it is skipped unexamined.
 // O(n log n + k) for the k pairs whose extents overlap, where [TCYM09]'s test is O(n^2).
 // Why: a contour can be simple without being star-shaped (a C-shaped or long bent patch; the
@@ -49,23 +49,29 @@ ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* cons
         out.edges_visited += 2;
         if (!adjacent_edges_apart(signs, i, i1, i2)) return fail(i, i1);
     }
-    // Extents along u: X = fl(fl(p - c) . u) is within ~4.02 eps D1 max|u_j| of the exact
-    // projection (kernel_point.hpp, project), D1 the largest |p - c|_1, and |X| <= D1 max|u_j|.
-    // c is one fixed point (the first vertex in the first pose), so for a loop moving linearly
-    // the exact X of every point is linear in t: an edge's extent over the motion lies within
-    // the hull of its ends' X in the poses. Pairs whose rounded extents are apart by more than
-    // `gap` are apart exactly, at every t.
+    // Extents along g = u + phi w, a direction of the projection plane that no grid-aligned
+    // contour side is perpendicular to (along u alone, a contour side parallel to w has all its
+    // edges at one X, and the sweep would examine all their pairs). Z = fl(X + phi Y) with X, Y
+    // the frame coordinates of project (kernel_point.hpp): each within 9 eps D1 scale of the
+    // exact ones, D1 the largest |p - c|_1 and |X|, |Y| <= D1 scale, so Z is within
+    // (9 (1 + phi) + 3) eps D1 scale < 18 eps D1 scale of the exact Z* = (p - c) . g, and a
+    // difference of two Z within a further 4 eps D1 scale. c is one fixed point (the first vertex
+    // in the first pose), so for a loop moving linearly every exact Z* is linear in t: an edge's
+    // extent over the motion lies within the hull of its ends' Z in the poses. Pairs whose
+    // rounded extents are apart by more than `gap` are apart exactly (a separating axis), at
+    // every t.
+    constexpr double phi = 0.6180339887498949;
     const ProjectionFrame f = projection_frame(l);
     const Vec3 c = load(poses[0], loop[0]);
     s.x.resize(static_cast<size_t>(n) * n_poses);
     double d1 = 0.0;
     for (int k = 0; k < n_poses; ++k)
         for (int32_t i = 0; i < n; ++i) {
-            double y;
-            d1 = std::fmax(d1, project(load(poses[k], loop[i]), c, f, s.x[static_cast<size_t>(k) * n + i], y));
+            double x, y;
+            d1 = std::fmax(d1, project(load(poses[k], loop[i]), c, f, x, y));
+            s.x[static_cast<size_t>(k) * n + i] = x + phi * y;
         }
-    const double umax = std::fmax(std::fabs(f.u.x), std::fmax(std::fabs(f.u.y), std::fabs(f.u.z)));
-    const double gap = 32.0 * kEps * d1 * umax;  // ample room over the 2 x 4.02 eps + rounding here
+    const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
     if (!std::isfinite(gap)) return fail(0, 0);
     s.lo.resize(n);
     s.hi.resize(n);
