@@ -102,7 +102,7 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
                          f"ray {np.round(tr.contour['ray'][i], 4).tolist()}, crossings {int(tr.contour['crossings'][i])}")
         verdict = "culled" if code == 0 else "not culled"
         lines.append(f"verdict: {verdict}, {REASONS[code][0]}: "
-                     + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i]) + ".")
+                     + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], tr.contour["simple"][i]) + ".")
         return "\n".join(lines)
     # Not judged itself: say why.
     culled = set(tr.culled_nodes().tolist())

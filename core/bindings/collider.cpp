@@ -78,6 +78,7 @@ py::dict trace_dict(const RecordingTracer& t) {
     d["contour_kernel"] = to_numpy(t.contour_kernel, 3);
     d["contour_kernel_end"] = to_numpy(t.contour_kernel_end, 3);
     d["contour_ray"] = to_numpy(t.contour_ray, 3);
+    d["contour_simple"] = to_numpy(t.contour_simple).attr("astype")("bool");
     d["level_pairs"] = to_numpy(t.level_pairs);
     d["level_overlaps"] = to_numpy(t.level_overlaps);
     d["elementary_pair"] = to_numpy(t.elementary_pair, 2);

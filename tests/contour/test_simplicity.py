@@ -200,3 +200,23 @@ def test_nc_ccd_with_the_fallback_equals_the_brute_force():
         vf, ee = brute_force_ccd(F, X[k], X[k + 1], "exact")
         assert {tuple(p) for p in res.vf.tolist()} == vf and {tuple(p) for p in res.ee.tolist()} == ee, k
     assert by_fallback > 0
+
+
+def test_trace_and_explain_name_the_fallback():
+    """The trace marks the nodes the fallback culled (contour event field `simple`, reason 0), as
+    many as the stats count, and `explain` says why such a node was culled."""
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.explain import explain_node
+
+    F, X = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=X.shape[1]), method="nc")
+    col.dcd(X[0])
+    res = col.dcd(X[20], trace=True)
+    c = res.trace.contour
+    assert c["simple"].dtype == bool and c["simple"].sum() == res.stats["contour_passed_simple"] > 0
+    assert (c["reason"][c["simple"]] == 0).all()
+    node = int(c["node"][np.flatnonzero(c["simple"])[0]])
+    assert "verdict: culled, passed: the contour is not star-shaped from its kernel point, but it projects to a " \
+           "simple polygon" in explain_node(col, res, node)
+    star = int(c["node"][np.flatnonzero((c["reason"] == 0) & ~c["simple"])[0]])
+    assert "star-shaped polygon around its kernel point" in explain_node(col, res, star)

@@ -48,6 +48,8 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("kernel_end", "float64", (3,), "length", "CCD: the kernel point at t = 1 (it moves linearly over the "
                   "step: the mean's, or the clipped kernel's of the contour at t = 1); DCD: the kernel point again"),
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
+            Field("simple", "bool", (), "", "passed by the simplicity fallback: Alg. 1 failed (kernel, ray: its "
+                  "attempt), but the contour projects to a simple polygon (nc; reason 0)"),
         )),
         EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "
                   "front (Alg. 4), the front entries and the sibling merges tested too.", (
@@ -93,7 +95,14 @@ def reason_name(code: int) -> str:
     return REASONS[int(code)][0]
 
 
-def explain(code: int, edge: int = -1, crossings: int = 0) -> str:
+# A pass by the simplicity fallback (the contour event's `simple`): reason 0, in other words.
+PASSED_SIMPLE = ("passed", "the contour is not star-shaped from its kernel point, but it projects to a simple polygon "
+                           "(no two edges meet): no self-collision, culled")
+
+
+def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False) -> str:
+    if int(code) == 0 and simple:
+        return PASSED_SIMPLE[1]
     return REASONS[int(code)][1].format(edge=int(edge), crossings=int(crossings))
 
 

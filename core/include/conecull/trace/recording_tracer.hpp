@@ -32,6 +32,7 @@ struct RecordingTracer {
     std::vector<double> contour_kernel;   // 3 per event
     std::vector<double> contour_kernel_end;  // 3 per event (CCD: o at t = 1; DCD: = kernel)
     std::vector<double> contour_ray;      // 3 per event
+    std::vector<uint8_t> contour_simple;  // passed by the simplicity fallback (ContourVerdict::by_simplicity)
     // node pairs of Collide(A, B), aggregated by BVH level (the deeper node's depth)
     std::vector<int64_t> level_pairs, level_overlaps;
     // elementary tests
@@ -57,6 +58,7 @@ struct RecordingTracer {
         contour_kernel.reserve(3 * n);
         contour_kernel_end.reserve(3 * n);
         contour_ray.reserve(3 * n);
+        contour_simple.reserve(n);
         int32_t depth = 0;
         for (const BvhNode& node : tree.nodes) depth = std::max(depth, node.depth);
         level_pairs.assign(depth + 1, 0);
@@ -70,10 +72,11 @@ struct RecordingTracer {
         cone_bounded.push_back(bounded);
     }
     void on_contour_ineligible(int32_t node, uint8_t status) {
-        push_contour(node, static_cast<uint8_t>(kIneligibleBase + status), -1, 0, Vec3{}, Vec3{}, Vec3{});
+        push_contour(node, static_cast<uint8_t>(kIneligibleBase + status), -1, 0, Vec3{}, Vec3{}, Vec3{}, false);
     }
     void on_contour_test(int32_t node, const ContourVerdict& v) {
-        push_contour(node, static_cast<uint8_t>(v.reason), v.edge, v.crossings, v.kernel, v.kernel_end, v.ray);
+        push_contour(node, static_cast<uint8_t>(v.reason), v.edge, v.crossings, v.kernel, v.kernel_end, v.ray,
+                     v.by_simplicity);
     }
     void on_node_pair(int32_t a, int32_t b, bool overlap) {
         const int32_t d = std::max(bvh->nodes[a].depth, bvh->nodes[b].depth);
@@ -98,7 +101,8 @@ struct RecordingTracer {
 
    private:
     void push_contour(int32_t node, uint8_t reason, int32_t edge, int32_t crossings, const Vec3& o, const Vec3& o1,
-                      const Vec3& r) {
+                      const Vec3& r, bool simple) {
+        contour_simple.push_back(simple);
         contour_node.push_back(node);
         contour_reason.push_back(reason);
         contour_edge.push_back(edge);
