@@ -220,3 +220,19 @@ def test_trace_and_explain_name_the_fallback():
            "simple polygon" in explain_node(col, res, node)
     star = int(c["node"][np.flatnonzero((c["reason"] == 0) & ~c["simple"])[0]])
     assert "star-shaped polygon around its kernel point" in explain_node(col, res, star)
+
+
+def test_the_sweep_gives_up_on_crowded_contours():
+    """A star of 300 long spikes: every edge spans most of the sweep's axis, so nearly every pair
+    of its 600 edges overlaps there. The sweep stops after 64 pairs per edge and answers "not
+    proven" (never a guess), though the loop is simple: cbc's all-pairs test passes it, and so does
+    Alg. 1, which is what culls such a star in the traversal (the fallback only runs after it)."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    r = np.where(np.arange(600) % 2 == 0, 10.0, 1.0)
+    P = np.stack([r * np.cos(t), r * np.sin(t), np.zeros(600)], axis=1)
+    ids = np.arange(600, dtype=np.int32)
+    l = np.array([0.0, 0.0, 1.0])
+    res = CT.simplicity_test(ids, P, l)
+    assert not res["passed"] and res["reason"] == 7
+    assert res["edges_visited"] <= 2 * 600 + 2 * 64 * 600
+    assert CT.cbc_contour_test(ids, P, l)["passed"] and CT.contour_test(ids, P, l)["passed"]

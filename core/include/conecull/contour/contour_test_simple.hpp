@@ -1,12 +1,13 @@
-// The simplicity fallback of "nc" (ours; DCD and CCD): when Alg. 1 (Alg. 3) fails, the node is still free of
-// self-collision if its contour projected along l is a simple polygon (contour.hpp: with the
-// cone bounded, a simple projected loop covers every point at most once), whether or not that
-// polygon is star-shaped. Alg. 1 proves "simple" through "star-shaped around o", a sufficient
-// condition; this test decides simplicity itself, with [TCYM09]'s certified edge-pair
-// predicates (contour_test_cbc.hpp), but only on the pairs that can meet: the edges' extents
-// along one direction of the projection plane are sorted and swept, and a pair whose extents are apart by more than
-// the projections' error bound cannot meet (a separating axis), so it is skipped unexamined.
-// O(n log n + k) for the k pairs whose extents overlap, where [TCYM09]'s test is O(n^2).
+// The simplicity fallback of "nc" (ours; DCD and CCD): when Alg. 1 (Alg. 3) fails, the node is
+// still free of self-collision if its contour projected along l is a simple polygon
+// (contour.hpp: with the cone bounded, a simple projected loop covers every point at most once),
+// whether or not that polygon is star-shaped. Alg. 1 proves "simple" through "star-shaped around
+// o", a sufficient condition; this test decides simplicity itself, with [TCYM09]'s certified
+// edge-pair predicates (contour_test_cbc.hpp), but only on the pairs that can meet: the edges'
+// extents along one direction of the projection plane are sorted and swept, and a pair whose
+// extents are apart by more than the projections' error bound cannot meet (a separating axis),
+// so it is skipped unexamined. O(n log n + k) for the k pairs whose extents overlap, where
+// [TCYM09]'s test is O(n^2); k is capped at kSimplicityPairsPerEdge n (then the test gives up).
 // Why: a contour can be simple without being star-shaped (a C-shaped or long bent patch; the
 // clipped kernel is empty), and then Alg. 1 traverses the whole subtree below.
 #pragma once
@@ -21,8 +22,11 @@
 
 namespace conecull {
 
-// Loops longer than this are not tried (the sort and the sweep's pairs grow with n).
+// Loops longer than this are not tried (the sort and the sweep's pairs grow with n), and the
+// sweep gives up (not culled) after examining this many pairs per edge: a contour whose edges
+// crowd one stretch of the sweep's axis would otherwise cost O(n^2).
 inline constexpr int32_t kMaxSimplicityEdges = 4096;
+inline constexpr int64_t kSimplicityPairsPerEdge = 64;
 
 struct SimplicityScratch {
     std::vector<double> x, lo, hi;  // the vertices' X; the edges' extents
@@ -91,6 +95,7 @@ ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* cons
     for (int32_t i = 0; i < n; ++i) s.order[i] = i;
     std::sort(s.order.begin(), s.order.end(),
               [&](int32_t a, int32_t b) { return s.lo[a] < s.lo[b] || (s.lo[a] == s.lo[b] && a < b); });
+    int64_t budget = kSimplicityPairsPerEdge * n;
     for (int32_t a = 0; a < n; ++a) {
         const int32_t i = s.order[a];
         for (int32_t b = a + 1; b < n; ++b) {
@@ -98,9 +103,10 @@ ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* cons
             if (s.lo[j] - s.hi[i] > gap) break;  // this one and every later one start beyond edge i
             const int32_t i1 = i + 1 == n ? 0 : i + 1, j1 = j + 1 == n ? 0 : j + 1;
             if (j == i1 || j1 == i) continue;  // adjacent: checked above
+            const int32_t p = std::min(i, j), q = std::max(i, j);
+            if (--budget < 0) return fail(p, q);  // gave up: not proven
             out.edges_visited += 2;
-            const int32_t e = std::min(i, j), g = std::max(i, j);
-            if (!edges_apart(signs, e, e + 1 == n ? 0 : e + 1, g, g + 1 == n ? 0 : g + 1)) return fail(e, g);
+            if (!edges_apart(signs, p, p + 1 == n ? 0 : p + 1, q, q + 1 == n ? 0 : q + 1)) return fail(p, q);
         }
     }
     return out;
