@@ -132,4 +132,21 @@ inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const 
     return simplicity_test(n, QuadraticSignsContinuous{loop, V0, V1, l}, poses, 2, l, loop, s, out);
 }
 
+// The fallback after Alg. 1 (Alg. 3): `v` is that test's verdict on a loop of n edges; where it
+// failed, simple(scratch) runs the simplicity test, and a pass turns v into a pass marked
+// by_simplicity. A failure keeps v (its reason, kernel point and ray) for the debugger; the edges
+// visited add up.
+template <class Simple>
+ContourVerdict with_simplicity_fallback(ContourVerdict v, int32_t n, Simple simple) {
+    if (v.passed() || n > kMaxSimplicityEdges) return v;
+    thread_local SimplicityScratch scratch;  // per thread: traversal tasks run on several
+    const ContourVerdict s = simple(scratch);
+    v.edges_visited += s.edges_visited;
+    if (s.passed()) {
+        v.reason = ContourReason::kPassed;
+        v.by_simplicity = true;
+    }
+    return v;
+}
+
 }  // namespace conecull

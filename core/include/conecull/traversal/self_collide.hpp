@@ -45,16 +45,8 @@ struct Discrete {
     static constexpr bool kContinuous = false;
     const double* V;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        ContourVerdict v = unprojected_contour_test(loop, n, V, l);
-        if (v.passed() || n > kMaxSimplicityEdges) return v;
-        thread_local SimplicityScratch scratch;  // per thread: traversal tasks run on several
-        const ContourVerdict s = simplicity_test(loop, n, V, l, scratch);
-        v.edges_visited += s.edges_visited;
-        if (s.passed()) {
-            v.reason = ContourReason::kPassed;
-            v.by_simplicity = true;
-        }
-        return v;
+        return with_simplicity_fallback(unprojected_contour_test(loop, n, V, l), n,
+                                        [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); });
     }
 };
 // CCD: Alg. 3, then the simplicity fallback over the step (simple at every t).
@@ -63,16 +55,8 @@ struct Continuous {
     const double* V0;
     const double* V1;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        ContourVerdict v = unprojected_contour_test_ccd(loop, n, V0, V1, l);
-        if (v.passed() || n > kMaxSimplicityEdges) return v;
-        thread_local SimplicityScratch scratch;
-        const ContourVerdict s = simplicity_test_ccd(loop, n, V0, V1, l, scratch);
-        v.edges_visited += s.edges_visited;
-        if (s.passed()) {
-            v.reason = ContourReason::kPassed;
-            v.by_simplicity = true;
-        }
-        return v;
+        return with_simplicity_fallback(unprojected_contour_test_ccd(loop, n, V0, V1, l), n,
+                                        [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); });
     }
 };
 // Baselines (Sec. 6.1). "sct": the projected star-contour test of [SPO10] (DCD only).
