@@ -148,16 +148,24 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
     return rows
 
 
+def _scenes_of(args) -> tuple:
+    """--scenes (comma-separated, default PAPER_SCENES), each a known scene."""
+    from conecull.datasets import names
+
+    scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
+    for s in scenes:
+        if s not in names():
+            raise ValueError(f"--scenes: unknown scene '{s}'; known: {', '.join(names())}")
+    return scenes
+
+
 def run_front(args) -> int:
     """`conecull bench front`: Fig. 11 alone (front entries of nc+front against aabb+front after
     each DCD query, every frame of each scene, at most the last COUNT_FRAMES), counters only, so
     no timing and no repeats; JSON front.json."""
-    from conecull.datasets import load, names
+    from conecull.datasets import load
 
-    scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
-    for name in scenes:
-        if name not in names():
-            raise ValueError(f"--scenes: unknown scene '{name}'; known: {', '.join(names())}")
+    scenes = _scenes_of(args)
     threads = args.threads or 1
     rows = []
     for name in scenes:
@@ -604,12 +612,7 @@ def run_all(args) -> int:
     os.makedirs(out, exist_ok=True)
     threads = args.threads or 1
     args.repeats = args.repeats or 3
-    scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
-    from conecull.datasets import names
-
-    for s in scenes:
-        if s not in names():
-            raise ValueError(f"--scenes: unknown scene '{s}'; known: {', '.join(names())}")
+    scenes = _scenes_of(args)
     sizes = SIZES if args.sizes is None else parse_sizes(args.sizes)
     skip = set(args.skip.split(",")) if args.skip else set()
     unknown = skip - {"scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"}

@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import time
 
 import numpy as np
 import rerun as rr
@@ -31,6 +30,7 @@ import rerun.blueprint as rrb
 
 from conecull.datasets import checks
 from conecull.viz import layers as L
+from conecull.viz.compare import compared_colliders, timed_query
 from conecull.viz.checks import (check_arithmetic, check_compare, check_depth, check_flag, check_frame_range,
                                  check_method)
 
@@ -192,9 +192,7 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
     checks.writable_file("path", path)  # rerun would say so only after the first query
     col = conecull.SelfCollider(mesh, method=method)
     _query(col.dcd, "frame 0", frames[0])  # node ids depend only on the first pose: stable across commands
-    others = {m: conecull.SelfCollider(mesh, method=m) for m in compare}
-    for other in others.values():
-        other.dcd(frames[0])  # the same BVH as the recorded collider's
+    others = compared_colliders(mesh, compare, frames[0])  # the same BVH as the recorded collider's
     rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth,
                         front=method.endswith("+front"), compare=compare)
     out = []
@@ -208,9 +206,7 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
                 res = _query(col.dcd, f"frame {k}", frames[k], trace=True)
                 rec.log_frame(k, col, frames[k], res)
             for m, other in others.items():
-                t0 = time.perf_counter()
-                r = other.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else other.dcd(frames[k])
-                ms = 1e3 * (time.perf_counter() - t0)
+                r, ms = timed_query(other, frames[k], frames[k + 1] if ccd else None, arithmetic)
                 if not ccd or arithmetic == "exact":  # float / conservative answers depend on the candidates
                     same = (np.array_equal(r.vf, res.vf) and np.array_equal(r.ee, res.ee)) if ccd else \
                         np.array_equal(r.pairs, res.pairs)

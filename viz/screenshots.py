@@ -44,6 +44,7 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
 
     import conecull
     from conecull.datasets.inputs import load_sequence
+    from conecull.viz.compare import compared_colliders, timed_query
     from conecull.viz.rerun_sink import RerunRecorder, blueprint, compare_path
 
     web, grpc = _free_port(), _free_port()
@@ -78,15 +79,12 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
         else:
             rec.rec.send_blueprint(blueprint(method.endswith("+front")))
         rec.faces, rec.bvh_depth = conecull.Mesh(F).faces, 4
-        others = {m: conecull.SelfCollider(conecull.Mesh(F), method=m) for m in compare}
-        for other in others.values():
-            other.dcd(frames[0])
+        others = compared_colliders(conecull.Mesh(F), compare, frames[0])
         for k in range(frame + 1):
             rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True))
             for m, other in others.items():
-                t0 = time.perf_counter()
-                r = other.dcd(frames[k])
-                rec.log_compare(k, m, r.stats, 1e3 * (time.perf_counter() - t0))
+                r, ms = timed_query(other, frames[k])
+                rec.log_compare(k, m, r.stats, ms)
         rec.rec.flush()
         with sync_playwright() as p:
             ctx = _browser(p)

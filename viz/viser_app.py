@@ -19,6 +19,7 @@ import viser
 import conecull
 from conecull.datasets import checks
 from conecull.viz import layers as L
+from conecull.viz.compare import timed_query
 from conecull.viz.checks import check_host_port, check_method, url_host
 from conecull.viz.explain import explain_node
 
@@ -179,9 +180,8 @@ class ViewerApp:
         rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms |",
                 "|---|---|---|---|---|---|"]
         for m, col in self.colliders.items():
-            t0 = time.perf_counter()
-            s = col.dcd(V).stats
-            ms = 1e3 * (time.perf_counter() - t0)
+            res, ms = timed_query(col, V)
+            s = res.stats
             rows.append(f"| {m} | {s['contour_tests']} | {s['contour_passed']} | {1e3 * s['seconds_contour']:.3f} | "
                         f"{s['elementary_tests']} | {ms:.1f} |")
         return "\n".join(rows)
