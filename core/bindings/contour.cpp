@@ -89,7 +89,10 @@ void bind_contour(py::module_& m) {
             require_points(V, "V", -1, 3);
             const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
             SimplicityScratch scratch;
-            return verdict_dict(simplicity_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis, scratch));
+            const int32_t n = static_cast<int32_t>(loop.shape(0));
+            ContourVerdict v = simplicity_test(loop.data(), n, V.data(), axis, scratch);
+            v.kernel = v.kernel_end = kernel_point(loop.data(), n, V.data());  // reported only, as cbc's
+            return verdict_dict(v);
         },
         py::arg("loop"), py::arg("V"), py::arg("l"),
         "The simplicity fallback of \"nc\" (DCD): is the loop projected along l a simple polygon? The edge-pair\n"
@@ -101,8 +104,11 @@ void bind_contour(py::module_& m) {
             require_points(V1, "V1", V0.shape(0), 3);
             const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
             SimplicityScratch scratch;
-            return verdict_dict(simplicity_test_ccd(loop.data(), static_cast<int32_t>(loop.shape(0)), V0.data(),
-                                                    V1.data(), axis, scratch));
+            const int32_t n = static_cast<int32_t>(loop.shape(0));
+            ContourVerdict v = simplicity_test_ccd(loop.data(), n, V0.data(), V1.data(), axis, scratch);
+            v.kernel = kernel_point(loop.data(), n, V0.data());  // reported only, as cbc's
+            v.kernel_end = kernel_point(loop.data(), n, V1.data());
+            return verdict_dict(v);
         },
         py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"),
         "The simplicity fallback of \"nc\" over the step V0 -> V1: is the loop projected along l simple at\n"

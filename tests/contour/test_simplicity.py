@@ -170,10 +170,14 @@ def test_simplicity_test_ccd_matches_exact_twin_and_cbc(case):
     P0, P1, l = _moving(case)
     ids = np.arange(len(P0), dtype=np.int32)
     res = CT.simplicity_test_ccd(ids, P0, P1, l)
-    if CT.cbc_contour_test_ccd(ids, P0, P1, l)["passed"]:
+    by_cbc = CT.cbc_contour_test_ccd(ids, P0, P1, l)["passed"]
+    if by_cbc:
         assert res["passed"]
     if res["passed"]:
-        for t in (Fr(0), Fr(1, 3), Fr(1, 2), Fr(1)):
+        # Passed beyond cbc (extents apart over the step, turns proven in the (g, h) coordinates):
+        # checked at 7 times.
+        times = (Fr(0), Fr(1, 3), Fr(1, 2), Fr(1)) if by_cbc else tuple(Fr(k, 6) for k in range(7))
+        for t in times:
             pts = [ex.lerp(p0, p1, t) for p0, p1 in zip(P0, P1)]
             assert exact_simple(pts, tuple(l)), f"passed, but not simple at t = {t}"
 
@@ -181,7 +185,7 @@ def test_simplicity_test_ccd_matches_exact_twin_and_cbc(case):
 def test_the_moving_loops_cover_both_answers():
     verdicts = [CT.simplicity_test_ccd(np.arange(len(P0), dtype=np.int32), P0, P1, l)["passed"]
                 for P0, P1, l in map(_moving, range(0, 160, 2))]
-    assert 15 <= sum(verdicts) <= 65, sum(verdicts)
+    assert 15 <= sum(verdicts) <= 75, sum(verdicts)  # 73 of 80: the loops pushed across fail
 
 
 def test_nc_ccd_with_the_fallback_equals_the_brute_force():

@@ -22,4 +22,10 @@ inline bool operator==(const Vec3& a, const Vec3& b) { return a.x == b.x && a.y 
 
 inline Vec3 load(const double* V, int i) { return {V[3 * i], V[3 * i + 1], V[3 * i + 2]}; }
 
+// std::fmin(acc, x) / std::fmax(acc, x) for an accumulator acc that is never NaN: a NaN x leaves
+// acc as fmin does. Inline: without -ffinite-math-only std::fmin is a libm call, and these run
+// once per contour edge.
+inline double min_into(double acc, double x) { return x < acc ? x : acc; }
+inline double max_into(double acc, double x) { return x > acc ? x : acc; }
+
 }  // namespace conecull

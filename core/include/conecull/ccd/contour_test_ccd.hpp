@@ -73,19 +73,22 @@ inline ContourVerdict unprojected_contour_test_ccd_with_ray(const int32_t* loop,
     return star_contour_test(n, ContinuousSigns{loop, V0, V1, o0, o1, r, l}, out);
 }
 
-// The kernel point: the mean at t = 0 moving to the mean at t = 1; then, if that fails the
-// kernel test, a kernel point of the loop at t = 0 moving to one of the loop at t = 1
-// (find_kernel_point at each end). At t = 0 and t = 1 the retry's o is in the kernel whenever
-// the kernel polygons are proper; in between, the test decides with exact signs.
-inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
-                                                  const Vec3& l) {
-    using Ends = std::pair<Vec3, Vec3>;  // o at t = 0 and at t = 1
-    const auto test = [&](const Ends& o) {
-        return with_ray_retry(l, [&](const Vec3& r) {
-            return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o.first, o.second);
-        });
-    };
+// Alg. 3 as printed: the kernel point the mean at t = 0 moving to the mean at t = 1.
+inline ContourVerdict unprojected_contour_test_ccd_at_mean(const int32_t* loop, int32_t n, const double* V0,
+                                                          const double* V1, const Vec3& l) {
     const Vec3 m0 = kernel_point(loop, n, V0), m1 = kernel_point(loop, n, V1);
+    return with_ray_retry(
+        l, [&](const Vec3& r) { return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, m0, m1); });
+}
+
+// If the means fail the kernel test, a kernel point of the loop at t = 0 moving to one of the
+// loop at t = 1 (find_kernel_point at each end). At t = 0 and t = 1 the retry's o is in the
+// kernel whenever the kernel polygons are proper; in between, the test decides with exact signs.
+// `v` is the verdict at the means (v.kernel, v.kernel_end).
+inline ContourVerdict retry_kernel_point_ccd(ContourVerdict v, const int32_t* loop, int32_t n, const double* V0,
+                                             const double* V1, const Vec3& l) {
+    using Ends = std::pair<Vec3, Vec3>;  // o at t = 0 and at t = 1
+    const Vec3 m0 = v.kernel, m1 = v.kernel_end;
     const auto find = [&](ProjectionScratch& s, Ends& o, int32_t& searched, int32_t edge) {
         int32_t searched0 = 0, searched1 = 0;
         const bool found = find_kernel_point(loop, n, V0, l, m0, s, o.first, searched0, edge) &&
@@ -93,7 +96,17 @@ inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t 
         searched = searched0 + searched1;
         return found;
     };
-    return with_kernel_retry<Ends>(test({m0, m1}), find, test);
+    const auto test = [&](const Ends& o) {
+        return with_ray_retry(l, [&](const Vec3& r) {
+            return unprojected_contour_test_ccd_with_ray(loop, n, V0, V1, l, r, o.first, o.second);
+        });
+    };
+    return with_kernel_retry<Ends>(v, find, test);
+}
+
+inline ContourVerdict unprojected_contour_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
+                                                  const Vec3& l) {
+    return retry_kernel_point_ccd(unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l), loop, n, V0, V1, l);
 }
 
 }  // namespace conecull

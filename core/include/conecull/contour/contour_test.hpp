@@ -172,17 +172,28 @@ ContourVerdict with_kernel_retry(ContourVerdict v, Find find, Test test) {
     return v;
 }
 
-inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
-    const auto test = [&](const Vec3& o) {
-        return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r, o); });
-    };
+// Alg. 1 as printed: o the mean (line 2), with the ray retry.
+inline ContourVerdict unprojected_contour_test_at_mean(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
     const Vec3 m = kernel_point(loop, n, V);
+    return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r, m); });
+}
+
+// The kernel-point retry of a verdict `v` of unprojected_contour_test_at_mean (v.kernel the mean).
+inline ContourVerdict retry_kernel_point(ContourVerdict v, const int32_t* loop, int32_t n, const double* V,
+                                         const Vec3& l) {
+    const Vec3 m = v.kernel;
     return with_kernel_retry<Vec3>(
-        test(m),
+        v,
         [&](ProjectionScratch& s, Vec3& o, int32_t& searched, int32_t edge) {
             return find_kernel_point(loop, n, V, l, m, s, o, searched, edge);
         },
-        test);
+        [&](const Vec3& o) {
+            return with_ray_retry(l, [&](const Vec3& r) { return unprojected_contour_test_with_ray(loop, n, V, l, r, o); });
+        });
+}
+
+inline ContourVerdict unprojected_contour_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l) {
+    return retry_kernel_point(unprojected_contour_test_at_mean(loop, n, V, l), loop, n, V, l);
 }
 
 }  // namespace conecull

@@ -15,96 +15,178 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
+#include "conecull/contour/contour.hpp"
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/kernel_point.hpp"
 
 namespace conecull {
 
-// Loops longer than this are not tried (the sort and the sweep's pairs grow with n), and the
-// sweep gives up (not culled) after examining this many pairs per edge: a contour whose edges
-// crowd one stretch of the sweep's axis would otherwise cost O(n^2).
+// Loops longer than this are not tried (the sweep's pairs grow with n), and the sweep gives up
+// (not culled) after scanning this many pairs per edge: a contour whose edges crowd one stretch of
+// the sweep's axis would otherwise cost O(n^2).
 inline constexpr int32_t kMaxSimplicityEdges = 4096;
 inline constexpr int64_t kSimplicityPairsPerEdge = 64;
 
-struct SimplicityScratch {
-    std::vector<double> x, lo, hi;  // the vertices' X; the edges' extents
-    std::vector<int32_t> order;
+// An edge's extents along g ([lo, hi]) and h ([hlo, hhi]), and its position in the loop.
+struct SweepEdge {
+    double lo, hi, hlo, hhi;
+    int32_t edge;
 };
 
-// The test over `poses` positions of the loop (DCD: V; CCD: V0 and V1, the loop moving linearly
-// between them), with Signs deciding each pair for the whole motion (contour_test_cbc.hpp).
-// Certified: "passed" only if every pair of edges is proven apart in projection (adjacent ones:
-// meeting only at their shared vertex). Fails with kEdgesMayOverlap (edge, other_edge) at the
-// first pair not proven apart. edges_visited counts 2 per pair examined, as [TCYM09]'s test.
-template <class Signs>
-ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* const* poses, int n_poses, const Vec3& l,
-                               const int32_t* loop, SimplicityScratch& s, ContourVerdict out) {
+struct SimplicityScratch {
+    GatheredLoop loop;                     // the positions, for callers with vertex ids and V
+    std::vector<double> g, h;              // each vertex's Z along g and h, n per pose
+    std::vector<SweepEdge> sorted;         // the edges in sweep order
+    std::vector<double> floor;             // floor[a]: the least lo from sweep position a on
+    std::vector<int32_t> count;            // the counting sort's buckets
+    bool gave_up = false;                  // the last test failed unproven (its budget, or not finite)
+};
+
+// Adjacent edges (a, b), (b, c) meet only at b when the projected vectors A = a - b and C = c - b
+// are proven not to point one way: (g, h) is an invertible linear image of the projection plane
+// (g = u + phi w, h = w - phi u with u, w the exact frame, kernel_point.hpp), so A, C are parallel
+// with a positive ratio there iff they are in the plane; a negative dot product of their (g, h)
+// images, or a cross product of one strict sign, rules that out (and a zero-length edge, whose
+// products are 0). Over a linear motion A(t), C(t) are linear in t and each product quadratic,
+// with Bernstein coefficients k0 = P(A0, C0), k2 = P(A1, C1), k1 = (P(A0, C1) + P(A1, C0)) / 2:
+// all of one strict sign prove it for every t. Error: each Z within 18 eps D1 scale of the exact
+// Z* and |Z*| <= (1 + phi) D1 scale (see simplicity_test), so a difference of two Z is within
+// delta = 39.3 eps D1 scale of the exact one, R = 3.24 D1 scale bounding it; a sum of two rounded
+// products within 4 R delta + 4 eps R^2 (1 + O(eps)) < 551 eps (D1 scale)^2 of the exact value:
+// `bound` = 1024 eps (D1 scale)^2 covers k0 and k2, and 2 bound the four products of 2 k1
+// (8 R delta + 16 eps R^2 < 1188 eps (D1 scale)^2).
+inline bool turn_apart(const double* g, const double* h, size_t nn, int n_poses, int32_t a, int32_t b, int32_t c,
+                       double bound) {
+    double ag[2], ah[2], cg[2], ch[2];
+    for (int k = 0; k < n_poses; ++k) {
+        const size_t o = k * nn;
+        ag[k] = g[o + a] - g[o + b], ah[k] = h[o + a] - h[o + b];
+        cg[k] = g[o + c] - g[o + b], ch[k] = h[o + c] - h[o + b];
+    }
+    const int m = n_poses - 1;  // DCD: k2 = k0 and 2 k1 = 2 k0, the same test
+    const double dot0 = ag[0] * cg[0] + ah[0] * ch[0], dot2 = ag[m] * cg[m] + ah[m] * ch[m];
+    const double dot1 = ag[0] * cg[m] + ah[0] * ch[m] + ag[m] * cg[0] + ah[m] * ch[0];
+    if (dot0 < -bound && dot2 < -bound && dot1 < -2.0 * bound) return true;
+    const double cr0 = ag[0] * ch[0] - ah[0] * cg[0], cr2 = ag[m] * ch[m] - ah[m] * cg[m];
+    const double cr1 = ag[0] * ch[m] - ah[0] * cg[m] + ag[m] * ch[0] - ah[m] * cg[0];
+    return (cr0 > bound && cr2 > bound && cr1 > 2.0 * bound) || (cr0 < -bound && cr2 < -bound && cr1 < -2.0 * bound);
+}
+
+// The test over `n_poses` positions P[k] of the loop, gathered in loop order (DCD: one; CCD: two,
+// the loop moving linearly between them); make_signs(ids) builds the predicates deciding each pair
+// for the whole motion (contour_test_cbc.hpp) on P with ids 0 .. n-1. Certified: "passed" only if every pair of edges is
+// proven apart in projection (adjacent ones: meeting only at their shared vertex). Fails with
+// kEdgesMayOverlap (edge, other_edge) at the first pair not proven apart. edges_visited counts 2
+// per pair examined with the predicates, as [TCYM09]'s test.
+template <class MakeSigns>
+ContourVerdict simplicity_test(const double* const* P, int n_poses, int32_t n, const Vec3& l, SimplicityScratch& s,
+                               MakeSigns make_signs) {
+    ContourVerdict out;
+    s.gave_up = false;
     const auto fail = [&](int32_t i, int32_t j) {
         out.reason = ContourReason::kEdgesMayOverlap;
         out.edge = i;
         out.other_edge = j;
         return out;
     };
-    // Adjacent edges first (every one of them shares a vertex, so no extent separates them).
-    for (int32_t i = 0; i < n; ++i) {
-        const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
-        out.edges_visited += 2;
-        if (!adjacent_edges_apart(signs, i, i1, i2)) return fail(i, i1);
-    }
-    // Extents along g = u + phi w, a direction of the projection plane that no grid-aligned
-    // contour side is perpendicular to (along u alone, a contour side parallel to w has all its
-    // edges at one X, and the sweep would examine all their pairs). Z = fl(X + phi Y) with X, Y
-    // the frame coordinates of project (kernel_point.hpp): each within 9 eps D1 scale of the
-    // exact ones, D1 the largest |p - c|_1 and |X|, |Y| <= D1 scale, so Z is within
-    // (9 (1 + phi) + 3) eps D1 scale < 18 eps D1 scale of the exact Z* = (p - c) . g, and a
-    // difference of two Z within a further 4 eps D1 scale. c is one fixed point (the first vertex
-    // in the first pose), so for a loop moving linearly every exact Z* is linear in t: an edge's
-    // extent over the motion lies within the hull of its ends' Z in the poses. Pairs whose
-    // rounded extents are apart by more than `gap` are apart exactly (a separating axis), at
-    // every t.
+    // Extents along g = u + phi w and h = w - phi u, two perpendicular directions of the
+    // projection plane that no grid-aligned contour side is perpendicular to (along u alone, a
+    // contour side parallel to w has all its edges at one X, and the sweep would scan all their
+    // pairs). Z_g = fl(X + phi Y), Z_h = fl(Y - phi X) with X, Y the frame coordinates of project
+    // (kernel_point.hpp): each within 9 eps D1 scale of the exact ones, D1 the largest
+    // |p - c|_1 and |X|, |Y| <= D1 scale, so Z is within (9 (1 + phi) + 3) eps D1 scale
+    // < 18 eps D1 scale of the exact Z* = (p - c) . g (or h), and a difference of two Z within a
+    // further 4 eps D1 scale. c is one fixed point (the first vertex in the first pose), so for a
+    // loop moving linearly every exact Z* is linear in t: an edge's extent over the motion lies
+    // within the hull of its ends' Z in the poses. Pairs whose rounded extents along g or along h
+    // are apart by more than `gap` are apart exactly (a separating axis), at every t.
     constexpr double phi = 0.6180339887498949;
     const ProjectionFrame f = projection_frame(l);
-    const Vec3 c = load(poses[0], loop[0]);
-    s.x.resize(static_cast<size_t>(n) * n_poses);
+    const Vec3 c = load(P[0], 0);
+    const size_t nn = static_cast<size_t>(n);
+    s.g.resize(nn * n_poses);
+    s.h.resize(nn * n_poses);
     double d1 = 0.0;
     for (int k = 0; k < n_poses; ++k)
         for (int32_t i = 0; i < n; ++i) {
+            const Vec3 p = load(P[k], i);
             double x, y;
-            d1 = std::fmax(d1, project(load(poses[k], loop[i]), c, f, x, y));
-            s.x[static_cast<size_t>(k) * n + i] = x + phi * y;
+            d1 = max_into(d1, project(p, c, f, x, y));
+            s.g[k * nn + i] = x + phi * y;
+            s.h[k * nn + i] = y - phi * x;
         }
     const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
-    if (!std::isfinite(gap)) return fail(0, 0);
-    s.lo.resize(n);
-    s.hi.resize(n);
+    if (!std::isfinite(gap)) return s.gave_up = true, fail(0, 0);
+    const auto signs = make_signs(s.loop.identity(n));
+    // Adjacent edges first (every one of them shares a vertex, so no extent separates them):
+    // most are settled by turn_apart on the coordinates at hand, the rest by the predicates.
+    const double ds = d1 * f.scale, bound = 1024.0 * kEps * ds * ds;
     for (int32_t i = 0; i < n; ++i) {
+        const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
+        out.edges_visited += 2;
+        if (turn_apart(s.g.data(), s.h.data(), nn, n_poses, i, i1, i2, bound)) continue;
+        if (!adjacent_edges_apart(signs, i, i1, i2)) return fail(i, i1);
+    }
+    // An edge's extents: the hull of its ends' Z over the poses.
+    const double* const g = s.g.data();
+    const double* const h = s.h.data();
+    const auto extent = [&](int32_t i) {
         const int32_t i1 = i + 1 == n ? 0 : i + 1;
-        double lo = s.x[i], hi = s.x[i];
+        SweepEdge e{g[i], g[i], h[i], h[i], i};
         for (int k = 0; k < n_poses; ++k)
             for (const int32_t v : {i, i1}) {
-                const double x = s.x[static_cast<size_t>(k) * n + v];
-                lo = std::fmin(lo, x);
-                hi = std::fmax(hi, x);
+                const double zg = g[k * nn + v], zh = h[k * nn + v];
+                e.lo = min_into(e.lo, zg), e.hi = max_into(e.hi, zg);
+                e.hlo = min_into(e.hlo, zh), e.hhi = max_into(e.hhi, zh);
             }
-        s.lo[i] = lo;
-        s.hi[i] = hi;
+        return e;
+    };
+    // Sweep order: the edges bucketed by lo (a counting sort into n buckets over the range of the
+    // vertices' Z_g, O(n)); within a bucket in loop order. The order need not be exact: floor[a],
+    // the least lo from position a on, is what ends the scan, so a pair is skipped only if proven
+    // apart. The extents are computed twice (to count, then to place) rather than stored twice.
+    double zmin = g[0], zmax = g[0];
+    for (size_t v = 1; v < nn * n_poses; ++v) zmin = min_into(zmin, g[v]), zmax = max_into(zmax, g[v]);
+    const double per = static_cast<double>(n - 1) / (zmax - zmin);  // inf or NaN if all equal: bucket n - 1
+    const auto bucket = [&](double lo) {
+        const double z = (lo - zmin) * per;  // >= 0, or NaN
+        return z < n - 1 ? static_cast<int32_t>(z) : n - 1;
+    };
+    const auto lo_of = [&](int32_t i) {
+        const int32_t i1 = i + 1 == n ? 0 : i + 1;
+        double lo = min_into(g[i], g[i1]);
+        for (int k = 1; k < n_poses; ++k) lo = min_into(min_into(lo, g[k * nn + i]), g[k * nn + i1]);
+        return lo;
+    };
+    s.count.assign(nn + 1, 0);
+    for (int32_t i = 0; i < n; ++i) ++s.count[bucket(lo_of(i)) + 1];
+    for (int32_t b = 0; b < n; ++b) s.count[b + 1] += s.count[b];
+    s.sorted.resize(nn);
+    for (int32_t i = 0; i < n; ++i) {
+        const SweepEdge e = extent(i);
+        s.sorted[s.count[bucket(e.lo)]++] = e;
     }
-    s.order.resize(n);
-    for (int32_t i = 0; i < n; ++i) s.order[i] = i;
-    std::sort(s.order.begin(), s.order.end(),
-              [&](int32_t a, int32_t b) { return s.lo[a] < s.lo[b] || (s.lo[a] == s.lo[b] && a < b); });
+    s.floor.resize(nn + 1);
+    double* const floor = s.floor.data();
+    const SweepEdge* const e = s.sorted.data();
+    floor[n] = std::numeric_limits<double>::infinity();
+    for (int32_t a = n - 1; a >= 0; --a) floor[a] = min_into(floor[a + 1], e[a].lo);
     int64_t budget = kSimplicityPairsPerEdge * n;
     for (int32_t a = 0; a < n; ++a) {
-        const int32_t i = s.order[a];
+        const SweepEdge ea = e[a];
+        const int32_t i = ea.edge, i1 = i + 1 == n ? 0 : i + 1;
         for (int32_t b = a + 1; b < n; ++b) {
-            const int32_t j = s.order[b];
-            if (s.lo[j] - s.hi[i] > gap) break;  // this one and every later one start beyond edge i
-            const int32_t i1 = i + 1 == n ? 0 : i + 1, j1 = j + 1 == n ? 0 : j + 1;
+            if (floor[b] - ea.hi > gap) break;  // every edge from b on starts beyond edge i
+            if (--budget < 0) return s.gave_up = true, fail(std::min(i, e[b].edge), std::max(i, e[b].edge));
+            const SweepEdge& eb = e[b];
+            if (eb.lo - ea.hi > gap || ea.lo - eb.hi > gap) continue;      // apart along g
+            if (eb.hlo - ea.hhi > gap || ea.hlo - eb.hhi > gap) continue;  // apart along h
+            const int32_t j = eb.edge, j1 = j + 1 == n ? 0 : j + 1;
             if (j == i1 || j1 == i) continue;  // adjacent: checked above
             const int32_t p = std::min(i, j), q = std::max(i, j);
-            if (--budget < 0) return fail(p, q);  // gave up: not proven
             out.edges_visited += 2;
             if (!edges_apart(signs, p, p + 1 == n ? 0 : p + 1, q, q + 1 == n ? 0 : q + 1)) return fail(p, q);
         }
@@ -112,41 +194,58 @@ ContourVerdict simplicity_test(int32_t n, const Signs& signs, const double* cons
     return out;
 }
 
-// DCD: the loop at V.
+// DCD: the loop at pose P, gathered in loop order (GatheredLoop). (No kernel point: the test has
+// none; the fallback keeps Alg. 1's.)
+inline ContourVerdict simplicity_test_gathered(const double* P, int32_t n, const Vec3& l, SimplicityScratch& s) {
+    const double* poses[1] = {P};
+    return simplicity_test(poses, 1, n, l, s, [&](const int32_t* ids) { return QuadraticSignsDiscrete{ids, P, l}; });
+}
+// The loop of vertex ids `loop` at V.
 inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
                                       SimplicityScratch& s) {
-    ContourVerdict out;
-    out.kernel = kernel_point(loop, n, V);  // reported only (the test has no kernel point)
-    out.kernel_end = out.kernel;
-    const double* poses[1] = {V};
-    return simplicity_test(n, QuadraticSignsDiscrete{loop, V, l}, poses, 1, l, loop, s, out);
+    return simplicity_test_gathered(s.loop.gather(0, loop, n, V), n, l, s);
 }
 
-// CCD: the loop moving linearly from V0 to V1, l fixed (the CCD cone's axis): simple at every t.
+// CCD: the loop moving linearly from P0 to P1 (gathered), l fixed (the CCD cone's axis): simple at
+// every t.
+inline ContourVerdict simplicity_test_ccd_gathered(const double* P0, const double* P1, int32_t n, const Vec3& l,
+                                                   SimplicityScratch& s) {
+    const double* poses[2] = {P0, P1};
+    return simplicity_test(poses, 2, n, l, s,
+                           [&](const int32_t* ids) { return QuadraticSignsContinuous{ids, P0, P1, l}; });
+}
 inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                           const Vec3& l, SimplicityScratch& s) {
-    ContourVerdict out;
-    out.kernel = kernel_point(loop, n, V0);  // reported only, as the means at both ends
-    out.kernel_end = kernel_point(loop, n, V1);
-    const double* poses[2] = {V0, V1};
-    return simplicity_test(n, QuadraticSignsContinuous{loop, V0, V1, l}, poses, 2, l, loop, s, out);
+    const double* P0 = s.loop.gather(0, loop, n, V0);
+    return simplicity_test_ccd_gathered(P0, s.loop.gather(1, loop, n, V1), n, l, s);
 }
 
-// The fallback after Alg. 1 (Alg. 3): `v` is that test's verdict on a loop of n edges; where it
-// failed, simple(scratch) runs the simplicity test, and a pass turns v into a pass marked
-// by_simplicity. A failure keeps v (its reason, kernel point and ray) for the debugger; the edges
-// visited add up.
-template <class Simple>
-ContourVerdict with_simplicity_fallback(ContourVerdict v, int32_t n, Simple simple) {
-    if (v.passed() || n > kMaxSimplicityEdges) return v;
-    thread_local SimplicityScratch scratch;  // per thread: traversal tasks run on several
-    const ContourVerdict s = simple(scratch);
-    v.edges_visited += s.edges_visited;
-    if (s.passed()) {
-        v.reason = ContourReason::kPassed;
-        v.by_simplicity = true;
+// The contour test of "nc": `v` is Alg. 1's (Alg. 3's) verdict with the mean as the kernel point,
+// on a loop of n edges. Where it failed, simple(scratch) runs the simplicity test, and a pass turns
+// v into a pass marked by_simplicity; where that fails too, retry(v) searches a kernel point
+// (retry_kernel_point: the clipped kernel). The culled nodes are those of any of the three, in any
+// order; this order runs the cheapest decisive test second (the simplicity test costs less than
+// the kernel clipping on our contours, and passes every loop a kernel point passes, star-shaped
+// ones being simple), and the search only where the simplicity test gave up (budget, length) or,
+// over a step (`exact_pairs` false), could not prove a pair apart that Alg. 3 might still
+// prove. In one pose its pair predicates are exact, so its failure there proves the projected
+// loop not simple, and no kernel point exists. A failure keeps the last verdict of Alg. 1 (its
+// reason, kernel point and ray) for the debugger; the edges visited add up.
+template <class Simple, class Retry>
+ContourVerdict with_simplicity_fallback(ContourVerdict v, int32_t n, bool exact_pairs, Simple simple, Retry retry) {
+    if (v.passed()) return v;
+    if (n <= kMaxSimplicityEdges) {
+        thread_local SimplicityScratch scratch;  // per thread: traversal tasks run on several
+        const ContourVerdict s = simple(scratch);
+        v.edges_visited += s.edges_visited;
+        if (s.passed()) {
+            v.reason = ContourReason::kPassed;
+            v.by_simplicity = true;
+            return v;
+        }
+        if (exact_pairs && !scratch.gave_up) return v;
     }
-    return v;
+    return retry(v);
 }
 
 }  // namespace conecull

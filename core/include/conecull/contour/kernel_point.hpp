@@ -108,7 +108,7 @@ inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V,
     double lo[2] = {-inf, -inf}, hi[2] = {inf, inf};  // [0]: counter-clockwise, [1]: clockwise
     for (int32_t i = 0; i < n; ++i) {
         const int32_t j = i + 1 == n ? 0 : i + 1;
-        if (j != 0) d1 = std::fmax(d1, project(load(V, loop[j]), c, f, X[j], Y[j]));
+        if (j != 0) d1 = max_into(d1, project(load(V, loop[j]), c, f, X[j], Y[j]));
         const double ex = X[j] - X[i], ey = Y[j] - Y[i];
         if (ey == 0.0) {  // edge parallel to the line: all or nothing
             const double side = ex * (Ym - Y[i]);
@@ -117,11 +117,11 @@ inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V,
         } else {
             const double x = X[i] + ex * (Ym - Y[i]) / ey;
             if (ey > 0) {
-                hi[0] = std::fmin(hi[0], x);
-                lo[1] = std::fmax(lo[1], x);
+                hi[0] = min_into(hi[0], x);
+                lo[1] = max_into(lo[1], x);
             } else {
-                lo[0] = std::fmax(lo[0], x);
-                hi[1] = std::fmin(hi[1], x);
+                lo[0] = max_into(lo[0], x);
+                hi[1] = min_into(hi[1], x);
             }
         }
         if (!(lo[0] < hi[0]) && !(lo[1] < hi[1])) {
@@ -187,7 +187,7 @@ inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const d
     for (int32_t i = 1; i < n; ++i) {
         project(load(V, loop[i]), c, f, X[i], Y[i]);
         area2 += X[i - 1] * Y[i] - X[i] * Y[i - 1];  // shoelace about c (the closing term is 0)
-        x0 = std::fmin(x0, X[i]), x1 = std::fmax(x1, X[i]), y0 = std::fmin(y0, Y[i]), y1 = std::fmax(y1, Y[i]);
+        x0 = min_into(x0, X[i]), x1 = max_into(x1, X[i]), y0 = min_into(y0, Y[i]), y1 = max_into(y1, Y[i]);
     }
     visited = 0;
     if (!(area2 != 0.0) || !(x0 < x1) || !(y0 < y1)) return KernelSearch::kEmpty;  // flat, or not finite
