@@ -7,6 +7,7 @@
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/contour_test_sct.hpp"
 #include "conecull/contour/contour_test_simple.hpp"
+#include "conecull/traversal/self_collide.hpp"
 #include "stages.hpp"
 
 namespace conecull::bind {
@@ -31,6 +32,7 @@ py::dict verdict_dict(const ContourVerdict& v) {
     d["ray"] = py::make_tuple(v.ray.x, v.ray.y, v.ray.z);
     d["other_edge"] = v.other_edge;
     d["edges_visited"] = v.edges_visited;
+    d["simple"] = v.by_simplicity;
     return d;
 }
 
@@ -114,6 +116,28 @@ void bind_contour(py::module_& m) {
         "The simplicity fallback of \"nc\" over the step V0 -> V1: is the loop projected along l simple at\n"
         "every t? The cbc test's continuous edge-pair predicates, on the pairs whose extents over the step\n"
         "overlap (certified).");
+    m.def(
+        "nc_contour_test",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+            require_points(V, "V", -1, 3);
+            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            return verdict_dict(Discrete{V.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"),
+        "The contour test \"nc\" runs in its traversal (DCD): Alg. 1 with the mean, then the simplicity\n"
+        "fallback, then the kernel-point search where the fallback gave up. \"simple\": passed by the fallback.");
+    m.def(
+        "nc_contour_test_ccd",
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
+            require_points(V0, "V0", -1, 3);
+            require_points(V1, "V1", V0.shape(0), 3);
+            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            return verdict_dict(
+                Continuous{V0.data(), V1.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
+        },
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"),
+        "The contour test \"nc\" runs in its traversal over the step V0 -> V1 (CCD): Alg. 3 with the means, the\n"
+        "simplicity fallback, then the kernel-point search wherever the fallback failed.");
     m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {

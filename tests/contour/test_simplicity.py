@@ -11,6 +11,7 @@ import pytest
 
 import conecull
 import exact_twin as ex
+from conecull._core import ccd as CC
 from conecull._core import contour as CT
 from oracle import brute_force_pairs
 
@@ -240,3 +241,58 @@ def test_the_sweep_gives_up_on_crowded_contours():
     assert not res["passed"] and res["reason"] == 7
     assert res["edges_visited"] <= 2 * 600 + 2 * 64 * 600
     assert CT.cbc_contour_test(ids, P, l)["passed"] and CT.contour_test(ids, P, l)["passed"]
+
+
+def _lopsided_star():
+    """600 edges: 150 spikes of radius 10 on one half-turn, the other vertices on the unit circle.
+    Star-shaped around the origin (its kernel has an interior there), but the mean, pulled to
+    (0, 1.43), is outside the kernel; and the spikes crowd the sweep, which gives up."""
+    t = np.linspace(0, 2 * np.pi, 600, endpoint=False)
+    r = np.where((np.arange(600) % 2 == 0) & (t < np.pi), 10.0, 1.0)
+    return np.stack([r * np.cos(t), r * np.sin(t), np.zeros(600)], axis=1)
+
+
+def _mean(P):
+    return np.array(ex.float_mean([tuple(p) for p in P]))  # the core's mean, bit for bit
+
+
+def _mean_only(ids, P, l):
+    """Alg. 1 at the mean alone (contour_test with o fixed to the mean: no kernel search)."""
+    return CT.contour_test(ids, P, l, o=_mean(P))
+
+
+def test_nc_order_mean_then_simplicity_then_kernel_search():
+    """The test "nc" runs in its traversal (with_simplicity_fallback): Alg. 1 with the mean; where it
+    fails, the simplicity test; the kernel-point search only where that gave up (DCD). Its edge
+    counts add up attempt by attempt, so they show which ran."""
+    l = np.array([0.0, 0.0, 1.0])
+    # E-shape: the mean fails, the simplicity test passes; no kernel search.
+    E = np.array([[0, 0, 0], [3, 0, 0], [3, 1, 0], [1, 1, 0], [1, 2, 0], [3, 2, 0], [3, 3, 0], [0, 3, 0]], float)
+    ids = np.arange(len(E), dtype=np.int32)
+    res = CT.nc_contour_test(ids, E, l)
+    assert res["passed"] and res["simple"]
+    assert res["edges_visited"] == _mean_only(ids, E, l)["edges_visited"] + CT.simplicity_test(ids, E, l)["edges_visited"]
+    # Lopsided star: the mean fails, the sweep gives up, the kernel search passes it.
+    P = _lopsided_star()
+    ids = np.arange(len(P), dtype=np.int32)
+    first, sweep, full = _mean_only(ids, P, l), CT.simplicity_test(ids, P, l), CT.contour_test(ids, P, l)
+    assert not first["passed"] and not sweep["passed"] and full["passed"]
+    res = CT.nc_contour_test(ids, P, l)
+    assert res["passed"] and not res["simple"]
+    assert res["edges_visited"] == sweep["edges_visited"] + full["edges_visited"]
+    # Not simple (an edge crosses another): the pair test proves it in one pose, no kernel search.
+    E[4] = [4, 0.5, 0]
+    ids = np.arange(len(E), dtype=np.int32)
+    res = CT.nc_contour_test(ids, E, l)
+    assert not res["passed"] and not res["simple"]
+    assert res["edges_visited"] == _mean_only(ids, E, l)["edges_visited"] + CT.simplicity_test(ids, E, l)["edges_visited"]
+    # Over a step the pair predicates are conservative, so the search runs after any failure.
+    res = CT.nc_contour_test_ccd(ids, E, E + 0.01, l)
+    assert not res["passed"]
+    mean_ccd = CC.contour_test_ccd(ids, E, E + 0.01, l, o=_mean(E), o1=_mean(E + 0.01))
+    swept = CT.simplicity_test_ccd(ids, E, E + 0.01, l)
+    assert not mean_ccd["passed"] and not swept["passed"]
+    assert res["edges_visited"] > swept["edges_visited"] + mean_ccd["edges_visited"]
+    P1 = P + 0.001
+    res = CT.nc_contour_test_ccd(np.arange(600, dtype=np.int32), P, P1, l)
+    assert res["passed"] and not res["simple"]

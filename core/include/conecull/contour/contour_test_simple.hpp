@@ -30,16 +30,16 @@ namespace conecull {
 inline constexpr int32_t kMaxSimplicityEdges = 4096;
 inline constexpr int64_t kSimplicityPairsPerEdge = 64;
 
-// An edge's extents along g ([lo, hi]) and h ([hlo, hhi]), and its position in the loop.
+// An edge's extents along g ([lo, hi]) and h ([hlo, hhi]).
 struct SweepEdge {
     double lo, hi, hlo, hhi;
-    int32_t edge;
 };
 
 struct SimplicityScratch {
     GatheredLoop loop;                     // the positions, for callers with vertex ids and V
     std::vector<double> g, h;              // each vertex's Z along g and h, n per pose
-    std::vector<SweepEdge> sorted;         // the edges in sweep order
+    std::vector<SweepEdge> edges;          // in loop order
+    std::vector<int32_t> order;            // the sweep order
     std::vector<double> floor;             // floor[a]: the least lo from sweep position a on
     std::vector<int32_t> count;            // the counting sort's buckets
     bool gave_up = false;                  // the last test failed unproven (its budget, or not finite)
@@ -58,15 +58,19 @@ struct SimplicityScratch {
 // products within 4 R delta + 4 eps R^2 (1 + O(eps)) < 551 eps (D1 scale)^2 of the exact value:
 // `bound` = 1024 eps (D1 scale)^2 covers k0 and k2, and 2 bound the four products of 2 k1
 // (8 R delta + 16 eps R^2 < 1188 eps (D1 scale)^2).
-inline bool turn_apart(const double* g, const double* h, size_t nn, int n_poses, int32_t a, int32_t b, int32_t c,
-                       double bound) {
+template <int n_poses>
+bool turn_apart(const double* g, const double* h, size_t nn, int32_t a, int32_t b, int32_t c, double bound) {
     double ag[2], ah[2], cg[2], ch[2];
     for (int k = 0; k < n_poses; ++k) {
         const size_t o = k * nn;
         ag[k] = g[o + a] - g[o + b], ah[k] = h[o + a] - h[o + b];
         cg[k] = g[o + c] - g[o + b], ch[k] = h[o + c] - h[o + b];
     }
-    const int m = n_poses - 1;  // DCD: k2 = k0 and 2 k1 = 2 k0, the same test
+    if constexpr (n_poses == 1) {  // one pose: k0 alone
+        const double dot = ag[0] * cg[0] + ah[0] * ch[0], cr = ag[0] * ch[0] - ah[0] * cg[0];
+        return (dot < -bound) | (cr > bound) | (cr < -bound);
+    }
+    const int m = n_poses - 1;
     const double dot0 = ag[0] * cg[0] + ah[0] * ch[0], dot2 = ag[m] * cg[m] + ah[m] * ch[m];
     const double dot1 = ag[0] * cg[m] + ah[0] * ch[m] + ag[m] * cg[0] + ah[m] * ch[0];
     if (dot0 < -bound && dot2 < -bound && dot1 < -2.0 * bound) return true;
@@ -81,8 +85,8 @@ inline bool turn_apart(const double* g, const double* h, size_t nn, int n_poses,
 // proven apart in projection (adjacent ones: meeting only at their shared vertex). Fails with
 // kEdgesMayOverlap (edge, other_edge) at the first pair not proven apart. edges_visited counts 2
 // per pair examined with the predicates, as [TCYM09]'s test.
-template <class MakeSigns>
-ContourVerdict simplicity_test(const double* const* P, int n_poses, int32_t n, const Vec3& l, SimplicityScratch& s,
+template <int n_poses, class MakeSigns>
+ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l, SimplicityScratch& s,
                                MakeSigns make_signs) {
     ContourVerdict out;
     s.gave_up = false;
@@ -109,33 +113,24 @@ ContourVerdict simplicity_test(const double* const* P, int n_poses, int32_t n, c
     const size_t nn = static_cast<size_t>(n);
     s.g.resize(nn * n_poses);
     s.h.resize(nn * n_poses);
-    double d1 = 0.0;
+    double* const g = s.g.data();
+    double* const h = s.h.data();
+    double d1 = 0.0, zmin = 0.0, zmax = 0.0;  // c itself: Z = 0
     for (int k = 0; k < n_poses; ++k)
         for (int32_t i = 0; i < n; ++i) {
-            const Vec3 p = load(P[k], i);
             double x, y;
-            d1 = max_into(d1, project(p, c, f, x, y));
-            s.g[k * nn + i] = x + phi * y;
-            s.h[k * nn + i] = y - phi * x;
+            d1 = max_into(d1, project(load(P[k], i), c, f, x, y));
+            const double zg = x + phi * y;
+            g[k * nn + i] = zg;
+            h[k * nn + i] = y - phi * x;
+            zmin = min_into(zmin, zg), zmax = max_into(zmax, zg);
         }
     const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
     if (!std::isfinite(gap)) return s.gave_up = true, fail(0, 0);
     const auto signs = make_signs(s.loop.identity(n));
-    // Adjacent edges first (every one of them shares a vertex, so no extent separates them):
-    // most are settled by turn_apart on the coordinates at hand, the rest by the predicates.
-    const double ds = d1 * f.scale, bound = 1024.0 * kEps * ds * ds;
-    for (int32_t i = 0; i < n; ++i) {
-        const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
-        out.edges_visited += 2;
-        if (turn_apart(s.g.data(), s.h.data(), nn, n_poses, i, i1, i2, bound)) continue;
-        if (!adjacent_edges_apart(signs, i, i1, i2)) return fail(i, i1);
-    }
     // An edge's extents: the hull of its ends' Z over the poses.
-    const double* const g = s.g.data();
-    const double* const h = s.h.data();
-    const auto extent = [&](int32_t i) {
-        const int32_t i1 = i + 1 == n ? 0 : i + 1;
-        SweepEdge e{g[i], g[i], h[i], h[i], i};
+    const auto extent = [&](int32_t i, int32_t i1) {
+        SweepEdge e{g[i], g[i], h[i], h[i]};
         for (int k = 0; k < n_poses; ++k)
             for (const int32_t v : {i, i1}) {
                 const double zg = g[k * nn + v], zh = h[k * nn + v];
@@ -147,45 +142,49 @@ ContourVerdict simplicity_test(const double* const* P, int n_poses, int32_t n, c
     // Sweep order: the edges bucketed by lo (a counting sort into n buckets over the range of the
     // vertices' Z_g, O(n)); within a bucket in loop order. The order need not be exact: floor[a],
     // the least lo from position a on, is what ends the scan, so a pair is skipped only if proven
-    // apart. The extents are computed twice (to count, then to place) rather than stored twice.
-    double zmin = g[0], zmax = g[0];
-    for (size_t v = 1; v < nn * n_poses; ++v) zmin = min_into(zmin, g[v]), zmax = max_into(zmax, g[v]);
+    // apart.
     const double per = static_cast<double>(n - 1) / (zmax - zmin);  // inf or NaN if all equal: bucket n - 1
     const auto bucket = [&](double lo) {
         const double z = (lo - zmin) * per;  // >= 0, or NaN
         return z < n - 1 ? static_cast<int32_t>(z) : n - 1;
     };
-    const auto lo_of = [&](int32_t i) {
-        const int32_t i1 = i + 1 == n ? 0 : i + 1;
-        double lo = min_into(g[i], g[i1]);
-        for (int k = 1; k < n_poses; ++k) lo = min_into(min_into(lo, g[k * nn + i]), g[k * nn + i1]);
-        return lo;
-    };
     s.count.assign(nn + 1, 0);
-    for (int32_t i = 0; i < n; ++i) ++s.count[bucket(lo_of(i)) + 1];
-    for (int32_t b = 0; b < n; ++b) s.count[b + 1] += s.count[b];
-    s.sorted.resize(nn);
+    s.edges.resize(nn);
+    // One pass: adjacent edges (every pair of them shares a vertex, so no extent separates them;
+    // most are settled by turn_apart on the coordinates at hand, the rest by the predicates), and
+    // each edge's extents and bucket.
+    const double ds = d1 * f.scale, bound = 1024.0 * kEps * ds * ds;
     for (int32_t i = 0; i < n; ++i) {
-        const SweepEdge e = extent(i);
-        s.sorted[s.count[bucket(e.lo)]++] = e;
+        const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
+        out.edges_visited += 2;
+        if (!turn_apart<n_poses>(g, h, nn, i, i1, i2, bound) && !adjacent_edges_apart(signs, i, i1, i2))
+            return fail(i, i1);
+        s.edges[i] = extent(i, i1);
+        ++s.count[bucket(s.edges[i].lo) + 1];
     }
+    for (int32_t b = 0; b < n; ++b) s.count[b + 1] += s.count[b];
+    s.order.resize(nn);
+    for (int32_t i = 0; i < n; ++i) s.order[s.count[bucket(s.edges[i].lo)]++] = i;
     s.floor.resize(nn + 1);
     double* const floor = s.floor.data();
-    const SweepEdge* const e = s.sorted.data();
+    const SweepEdge* const ed = s.edges.data();
+    const int32_t* const order = s.order.data();
     floor[n] = std::numeric_limits<double>::infinity();
-    for (int32_t a = n - 1; a >= 0; --a) floor[a] = min_into(floor[a + 1], e[a].lo);
+    for (int32_t a = n - 1; a >= 0; --a) floor[a] = min_into(floor[a + 1], ed[order[a]].lo);
     int64_t budget = kSimplicityPairsPerEdge * n;
     for (int32_t a = 0; a < n; ++a) {
-        const SweepEdge ea = e[a];
-        const int32_t i = ea.edge, i1 = i + 1 == n ? 0 : i + 1;
+        const int32_t i = order[a], i1 = i + 1 == n ? 0 : i + 1;
+        const SweepEdge ea = ed[i];
         for (int32_t b = a + 1; b < n; ++b) {
             if (floor[b] - ea.hi > gap) break;  // every edge from b on starts beyond edge i
-            if (--budget < 0) return s.gave_up = true, fail(std::min(i, e[b].edge), std::max(i, e[b].edge));
-            const SweepEdge& eb = e[b];
-            if (eb.lo - ea.hi > gap || ea.lo - eb.hi > gap) continue;      // apart along g
-            if (eb.hlo - ea.hhi > gap || ea.hlo - eb.hhi > gap) continue;  // apart along h
-            const int32_t j = eb.edge, j1 = j + 1 == n ? 0 : j + 1;
-            if (j == i1 || j1 == i) continue;  // adjacent: checked above
+            const int32_t j = order[b], j1 = j + 1 == n ? 0 : j + 1;
+            const SweepEdge& eb = ed[j];
+            if (--budget < 0) return s.gave_up = true, fail(std::min(i, j), std::max(i, j));
+            // Skipped: adjacent (checked above), or apart along g or along h. One branch, nearly
+            // always taken (separate ones mispredicted: adjacent pairs are most of the scans).
+            const bool skip = (j == i1) | (j1 == i) | (eb.lo - ea.hi > gap) | (ea.lo - eb.hi > gap) |
+                              (eb.hlo - ea.hhi > gap) | (ea.hlo - eb.hhi > gap);
+            if (skip) continue;
             const int32_t p = std::min(i, j), q = std::max(i, j);
             out.edges_visited += 2;
             if (!edges_apart(signs, p, p + 1 == n ? 0 : p + 1, q, q + 1 == n ? 0 : q + 1)) return fail(p, q);
@@ -198,7 +197,7 @@ ContourVerdict simplicity_test(const double* const* P, int n_poses, int32_t n, c
 // none; the fallback keeps Alg. 1's.)
 inline ContourVerdict simplicity_test_gathered(const double* P, int32_t n, const Vec3& l, SimplicityScratch& s) {
     const double* poses[1] = {P};
-    return simplicity_test(poses, 1, n, l, s, [&](const int32_t* ids) { return QuadraticSignsDiscrete{ids, P, l}; });
+    return simplicity_test<1>(poses, n, l, s, [&](const int32_t* ids) { return QuadraticSignsDiscrete{ids, P, l}; });
 }
 // The loop of vertex ids `loop` at V.
 inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
@@ -211,7 +210,7 @@ inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const doub
 inline ContourVerdict simplicity_test_ccd_gathered(const double* P0, const double* P1, int32_t n, const Vec3& l,
                                                    SimplicityScratch& s) {
     const double* poses[2] = {P0, P1};
-    return simplicity_test(poses, 2, n, l, s,
+    return simplicity_test<2>(poses, n, l, s,
                            [&](const int32_t* ids) { return QuadraticSignsContinuous{ids, P0, P1, l}; });
 }
 inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
