@@ -46,25 +46,4 @@ struct Contours {
 
 Contours build_contours(const Bvh& bvh, const Topology& topo);
 
-// A loop's positions copied in loop order, one buffer per pose, and the ids 0 .. n-1 that index
-// them. The tests of "nc" read each contour vertex several times (Alg. 1's mean, its star test,
-// the kernel clipping, the simplicity fallback): gathered once, those passes read contiguous
-// memory instead of V at random. The tests see the same positions, so the same verdicts.
-struct GatheredLoop {
-    std::vector<double> P[2];
-    std::vector<int32_t> ids;
-
-    const double* gather(int pose, const int32_t* loop, int32_t n, const double* V) {
-        std::vector<double>& out = P[pose];
-        out.resize(3 * static_cast<size_t>(n));
-        for (int32_t i = 0; i < n; ++i)
-            for (int k = 0; k < 3; ++k) out[3 * static_cast<size_t>(i) + k] = V[3 * static_cast<size_t>(loop[i]) + k];
-        return out.data();
-    }
-    const int32_t* identity(int32_t n) {
-        for (int32_t i = static_cast<int32_t>(ids.size()); i < n; ++i) ids.push_back(i);
-        return ids.data();
-    }
-};
-
 }  // namespace conecull

@@ -18,7 +18,6 @@
 #include <limits>
 #include <vector>
 
-#include "conecull/contour/contour.hpp"
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/kernel_point.hpp"
 
@@ -36,7 +35,6 @@ struct SweepEdge {
 };
 
 struct SimplicityScratch {
-    GatheredLoop loop;                     // the positions, for callers with vertex ids and V
     std::vector<double> g, h;              // each vertex's Z along g and h, n per pose
     std::vector<SweepEdge> edges;          // in loop order
     std::vector<int32_t> order;            // the sweep order
@@ -79,15 +77,15 @@ bool turn_apart(const double* g, const double* h, size_t nn, int32_t a, int32_t 
     return (cr0 > bound && cr2 > bound && cr1 > 2.0 * bound) || (cr0 < -bound && cr2 < -bound && cr1 < -2.0 * bound);
 }
 
-// The test over `n_poses` positions P[k] of the loop, gathered in loop order (DCD: one; CCD: two,
-// the loop moving linearly between them); make_signs(ids) builds the predicates deciding each pair
-// for the whole motion (contour_test_cbc.hpp) on P with ids 0 .. n-1. Certified: "passed" only if every pair of edges is
-// proven apart in projection (adjacent ones: meeting only at their shared vertex). Fails with
+// The test on the loop of vertex ids `loop` over `n_poses` positions P[k] (DCD: one; CCD: two, the
+// loop moving linearly between them); `signs` decides each pair for the whole motion
+// (contour_test_cbc.hpp). Certified: "passed" only if every pair of edges is proven apart in
+// projection (adjacent ones: meeting only at their shared vertex). Fails with
 // kEdgesMayOverlap (edge, other_edge) at the first pair not proven apart. edges_visited counts 2
 // per pair examined with the predicates, as [TCYM09]'s test.
-template <int n_poses, class MakeSigns>
-ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l, SimplicityScratch& s,
-                               MakeSigns make_signs) {
+template <int n_poses, class Signs>
+ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int32_t n, const Vec3& l,
+                               SimplicityScratch& s, const Signs& signs) {
     ContourVerdict out;
     s.gave_up = false;
     const auto fail = [&](int32_t i, int32_t j) {
@@ -109,7 +107,7 @@ ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l,
     // are apart by more than `gap` are apart exactly (a separating axis), at every t.
     constexpr double phi = 0.6180339887498949;
     const ProjectionFrame f = projection_frame(l);
-    const Vec3 c = load(P[0], 0);
+    const Vec3 c = load(P[0], loop[0]);
     const size_t nn = static_cast<size_t>(n);
     s.g.resize(nn * n_poses);
     s.h.resize(nn * n_poses);
@@ -119,7 +117,7 @@ ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l,
     for (int k = 0; k < n_poses; ++k)
         for (int32_t i = 0; i < n; ++i) {
             double x, y;
-            d1 = max_into(d1, project(load(P[k], i), c, f, x, y));
+            d1 = max_into(d1, project(load(P[k], loop[i]), c, f, x, y));
             const double zg = x + phi * y;
             g[k * nn + i] = zg;
             h[k * nn + i] = y - phi * x;
@@ -127,7 +125,6 @@ ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l,
         }
     const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
     if (!std::isfinite(gap)) return s.gave_up = true, fail(0, 0);
-    const auto signs = make_signs(s.loop.identity(n));
     // An edge's extents: the hull of its ends' Z over the poses.
     const auto extent = [&](int32_t i, int32_t i1) {
         SweepEdge e{g[i], g[i], h[i], h[i]};
@@ -193,30 +190,19 @@ ContourVerdict simplicity_test(const double* const* P, int32_t n, const Vec3& l,
     return out;
 }
 
-// DCD: the loop at pose P, gathered in loop order (GatheredLoop). (No kernel point: the test has
-// none; the fallback keeps Alg. 1's.)
-inline ContourVerdict simplicity_test_gathered(const double* P, int32_t n, const Vec3& l, SimplicityScratch& s) {
-    const double* poses[1] = {P};
-    return simplicity_test<1>(poses, n, l, s, [&](const int32_t* ids) { return QuadraticSignsDiscrete{ids, P, l}; });
-}
-// The loop of vertex ids `loop` at V.
+// DCD: the loop of vertex ids `loop` at V. (No kernel point: the test has none; the fallback
+// keeps Alg. 1's.)
 inline ContourVerdict simplicity_test(const int32_t* loop, int32_t n, const double* V, const Vec3& l,
                                       SimplicityScratch& s) {
-    return simplicity_test_gathered(s.loop.gather(0, loop, n, V), n, l, s);
+    const double* poses[1] = {V};
+    return simplicity_test<1>(loop, poses, n, l, s, QuadraticSignsDiscrete{loop, V, l});
 }
 
-// CCD: the loop moving linearly from P0 to P1 (gathered), l fixed (the CCD cone's axis): simple at
-// every t.
-inline ContourVerdict simplicity_test_ccd_gathered(const double* P0, const double* P1, int32_t n, const Vec3& l,
-                                                   SimplicityScratch& s) {
-    const double* poses[2] = {P0, P1};
-    return simplicity_test<2>(poses, n, l, s,
-                           [&](const int32_t* ids) { return QuadraticSignsContinuous{ids, P0, P1, l}; });
-}
+// CCD: the loop moving linearly from V0 to V1, l fixed (the CCD cone's axis): simple at every t.
 inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const double* V0, const double* V1,
                                           const Vec3& l, SimplicityScratch& s) {
-    const double* P0 = s.loop.gather(0, loop, n, V0);
-    return simplicity_test_ccd_gathered(P0, s.loop.gather(1, loop, n, V1), n, l, s);
+    const double* poses[2] = {V0, V1};
+    return simplicity_test<2>(loop, poses, n, l, s, QuadraticSignsContinuous{loop, V0, V1, l});
 }
 
 // The contour test of "nc": `v` is Alg. 1's (Alg. 3's) verdict with the mean as the kernel point,

@@ -41,19 +41,15 @@ struct BvttTask {
 // DCD: Alg. 1 with the mean, then, where it fails, the simplicity fallback and the kernel-point
 // search (with_simplicity_fallback, contour_test_simple.hpp): the star test proves the projected
 // contour simple cheaply, the fallback decides simplicity on the contours it cannot. A failure
-// keeps Alg. 1's verdict (its reason, kernel point and ray). The loop's positions are gathered
-// once (GatheredLoop): the tests read them several times.
+// keeps Alg. 1's verdict (its reason, kernel point and ray).
 struct Discrete {
     static constexpr bool kContinuous = false;
     const double* V;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        thread_local GatheredLoop g;  // per thread: traversal tasks run on several
-        const double* P = g.gather(0, loop, n, V);
-        const int32_t* ids = g.identity(n);
         return with_simplicity_fallback(
-            unprojected_contour_test_at_mean(ids, n, P, l), n, true,
-            [&](SimplicityScratch& s) { return simplicity_test_gathered(P, n, l, s); },
-            [&](const ContourVerdict& v) { return retry_kernel_point(v, ids, n, P, l); });
+            unprojected_contour_test_at_mean(loop, n, V, l), n, true,
+            [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); },
+            [&](const ContourVerdict& v) { return retry_kernel_point(v, loop, n, V, l); });
     }
 };
 // CCD: Alg. 3 with the means, then the simplicity fallback over the step (simple at every t) and
@@ -63,14 +59,10 @@ struct Continuous {
     const double* V0;
     const double* V1;
     ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        thread_local GatheredLoop g;
-        const double* P0 = g.gather(0, loop, n, V0);
-        const double* P1 = g.gather(1, loop, n, V1);
-        const int32_t* ids = g.identity(n);
         return with_simplicity_fallback(
-            unprojected_contour_test_ccd_at_mean(ids, n, P0, P1, l), n, false,
-            [&](SimplicityScratch& s) { return simplicity_test_ccd_gathered(P0, P1, n, l, s); },
-            [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, ids, n, P0, P1, l); });
+            unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l), n, false,
+            [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); },
+            [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, loop, n, V0, V1, l); });
     }
 };
 // Baselines (Sec. 6.1). "sct": the projected star-contour test of [SPO10] (DCD only).
