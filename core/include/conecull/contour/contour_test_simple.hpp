@@ -4,9 +4,10 @@
 // whether or not that polygon is star-shaped. Alg. 1 proves "simple" through "star-shaped around
 // o", a sufficient condition; this test decides simplicity itself, with [TCYM09]'s certified
 // edge-pair predicates (contour_test_cbc.hpp), but only on the pairs that can meet: the edges'
-// extents along one direction of the projection plane are sorted and swept, and a pair whose
-// extents are apart by more than the projections' error bound cannot meet (a separating axis),
-// so it is skipped unexamined. O(n log n + k) for the k pairs whose extents overlap, where
+// extents along one direction g of the projection plane are bucketed and swept, and a pair whose
+// extents along g or along the perpendicular h are apart by more than the projections' error
+// bound cannot meet (a separating axis), so it is skipped unexamined; adjacent edges are mostly
+// settled from the same coordinates (turn_apart). O(n + k) for the k pairs scanned, where
 // [TCYM09]'s test is O(n^2); k is capped at kSimplicityPairsPerEdge n (then the test gives up).
 // Why: a contour can be simple without being star-shaped (a C-shaped or long bent patch; the
 // clipped kernel is empty), and then Alg. 1 traverses the whole subtree below.
@@ -94,8 +95,8 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
         out.other_edge = j;
         return out;
     };
-    // Extents along g = u + phi w and h = w - phi u, two perpendicular directions of the
-    // projection plane that no grid-aligned contour side is perpendicular to (along u alone, a
+    // Extents along g = u + phi w and h = w - phi u, two directions of the projection plane
+    // (perpendicular for a unit l) that no grid-aligned contour side is perpendicular to (along u alone, a
     // contour side parallel to w has all its edges at one X, and the sweep would scan all their
     // pairs). Z_g = fl(X + phi Y), Z_h = fl(Y - phi X) with X, Y the frame coordinates of project
     // (kernel_point.hpp): each within 9 eps D1 scale of the exact ones, D1 the largest
