@@ -121,8 +121,26 @@ def test_examples():
 @pytest.mark.parametrize("bad", [np.zeros(2, np.int32), np.array([0, 1, 9], np.int32)])
 def test_bad_loops_rejected(bad):
     V = np.eye(3)
-    for f in (CT.sct_contour_test, CT.cbc_contour_test):
+    for f in (CT.sct_contour_test, CT.cbc_contour_test, CT.simplicity_test, CT.nc_contour_test):
         with pytest.raises(ValueError, match="loop:"):
             f(bad, V, np.array([0.0, 0.0, 1.0]))
-    with pytest.raises(ValueError, match="loop:"):
-        CT.cbc_contour_test_ccd(bad, V, V, np.array([0.0, 0.0, 1.0]))
+    for f in (CT.cbc_contour_test_ccd, CT.simplicity_test_ccd, CT.nc_contour_test_ccd):
+        with pytest.raises(ValueError, match="loop:"):
+            f(bad, V, V, np.array([0.0, 0.0, 1.0]))
+
+
+def test_bad_positions_and_axes_rejected():
+    """The single-loop tests name the argument that is wrong: a non-finite position, a step whose
+    two poses differ in size, an axis of the wrong shape."""
+    ids, l = np.arange(3, dtype=np.int32), np.array([0.0, 0.0, 1.0])
+    V = np.eye(3)
+    bad = V.copy()
+    bad[1, 2] = np.nan
+    for f in (CT.simplicity_test, CT.nc_contour_test, CT.sct_contour_test):
+        with pytest.raises(ValueError, match="V"):
+            f(ids, bad, l)
+        with pytest.raises(ValueError, match="l"):
+            f(ids, V, np.zeros(2))
+    for f in (CT.simplicity_test_ccd, CT.nc_contour_test_ccd):
+        with pytest.raises(ValueError, match="V1"):
+            f(ids, V, np.eye(4, 3), l)
