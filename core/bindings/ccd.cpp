@@ -105,9 +105,7 @@ void bind_ccd(py::module_& m) {
         "contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, std::optional<F64Array> r,
            std::optional<F64Array> o, std::optional<F64Array> o1) {
-            require_points(V0, "V0", -1, 3);
-            require_points(V1, "V1", V0.shape(0), 3);
-            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            const Vec3 axis = check_loop_step(loop, V0, V1, l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             const std::optional<Vec3> start = opt_vec3(o, "o"), end = opt_vec3(o1, "o1");
             if (end && !start) throw py::value_error("o1: given without o (o1 is where the kernel point o moves to)");

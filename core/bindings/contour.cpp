@@ -36,7 +36,8 @@ py::dict verdict_dict(const ContourVerdict& v) {
     return d;
 }
 
-Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
+// A loop of vertex ids into positions with n_vertices rows, and its axis l (3,).
+static Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l) {
     if (loop.ndim() != 1 || loop.shape(0) < 3) throw py::value_error("loop: expected shape (n,) with n >= 3");
     const Vec3 axis = vec3_arg(l, "l");
     for (py::ssize_t i = 0; i < loop.shape(0); ++i)
@@ -44,13 +45,23 @@ Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Arra
     return axis;
 }
 
+Vec3 check_loop_pose(const I32Array& loop, const F64Array& V, const F64Array& l) {
+    require_points(V, "V", -1, 3);
+    return check_loop_axis(loop, V.shape(0), l);
+}
+
+Vec3 check_loop_step(const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
+    require_points(V0, "V0", -1, 3);
+    require_points(V1, "V1", V0.shape(0), 3);
+    return check_loop_axis(loop, V0.shape(0), l);
+}
+
 void bind_contour(py::module_& m) {
     m.def(
         "contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l, std::optional<F64Array> r,
            std::optional<F64Array> o) {
-            require_points(V, "V", -1, 3);
-            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            const Vec3 axis = check_loop_pose(loop, V, l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             return verdict_dict(contour_test_choosing(
                 axis, opt_vec3(r, "r"), opt_vec3(o, "o"), [&] { return kernel_point(loop.data(), n, V.data()); },
@@ -68,8 +79,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "sct_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_points(V, "V", -1, 3);
-            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            const Vec3 axis = check_loop_pose(loop, V, l);
             ProjectionScratch scratch;
             return verdict_dict(
                 projected_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis, scratch));
@@ -79,8 +89,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "cbc_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_points(V, "V", -1, 3);
-            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            const Vec3 axis = check_loop_pose(loop, V, l);
             return verdict_dict(quadratic_contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), V.data(), axis));
         },
         py::arg("loop"), py::arg("V"), py::arg("l"),
@@ -88,8 +97,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "simplicity_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_points(V, "V", -1, 3);
-            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            const Vec3 axis = check_loop_pose(loop, V, l);
             SimplicityScratch scratch;
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             ContourVerdict v = simplicity_test(loop.data(), n, V.data(), axis, scratch);
@@ -98,13 +106,11 @@ void bind_contour(py::module_& m) {
         },
         py::arg("loop"), py::arg("V"), py::arg("l"),
         "The simplicity fallback of \"nc\" (DCD): is the loop projected along l a simple polygon? The edge-pair\n"
-        "predicates of the cbc test, on the pairs whose extents along one axis overlap (certified).");
+        "predicates of the cbc test, on the pairs whose extents overlap along both sweep axes (certified).");
     m.def(
         "simplicity_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
-            require_points(V0, "V0", -1, 3);
-            require_points(V1, "V1", V0.shape(0), 3);
-            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            const Vec3 axis = check_loop_step(loop, V0, V1, l);
             SimplicityScratch scratch;
             const int32_t n = static_cast<int32_t>(loop.shape(0));
             ContourVerdict v = simplicity_test_ccd(loop.data(), n, V0.data(), V1.data(), axis, scratch);
@@ -119,8 +125,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "nc_contour_test",
         [](const I32Array& loop, const F64Array& V, const F64Array& l) {
-            require_points(V, "V", -1, 3);
-            const Vec3 axis = check_loop_axis(loop, V.shape(0), l);
+            const Vec3 axis = check_loop_pose(loop, V, l);
             return verdict_dict(Discrete{V.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
         },
         py::arg("loop"), py::arg("V"), py::arg("l"),
@@ -129,9 +134,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "nc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
-            require_points(V0, "V0", -1, 3);
-            require_points(V1, "V1", V0.shape(0), 3);
-            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            const Vec3 axis = check_loop_step(loop, V0, V1, l);
             return verdict_dict(
                 Continuous{V0.data(), V1.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
         },
@@ -141,9 +144,7 @@ void bind_contour(py::module_& m) {
     m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
-            require_points(V0, "V0", -1, 3);
-            require_points(V1, "V1", V0.shape(0), 3);
-            const Vec3 axis = check_loop_axis(loop, V0.shape(0), l);
+            const Vec3 axis = check_loop_step(loop, V0, V1, l);
             return verdict_dict(quadratic_contour_test_ccd(loop.data(), static_cast<int32_t>(loop.shape(0)), V0.data(),
                                                            V1.data(), axis));
         },

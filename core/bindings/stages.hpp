@@ -15,7 +15,10 @@ py::dict contour_arrays(const Contours& contours);
 py::dict verdict_dict(const ContourVerdict& v);
 
 // Validated (loop, axis) of the single-loop contour tests; positions checked by the caller.
-Vec3 check_loop_axis(const I32Array& loop, py::ssize_t n_vertices, const F64Array& l);
+// A loop of vertex ids (n,) with n >= 3 into V (one pose) or V0, V1 (a step, same shape), and the
+// axis l (3,): each argument checked, with its name in the error; returns l.
+Vec3 check_loop_pose(const I32Array& loop, const F64Array& V, const F64Array& l);
+Vec3 check_loop_step(const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l);
 
 // The optional choices of the single-loop tests (Alg. 1 and Alg. 3): `kernel` fixes the kernel
 // point (K: a point; for CCD its two ends), r the ray (with r alone, the kernel is mean());
