@@ -97,12 +97,16 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
     if len(contour_i):
         i = contour_i[0]
         code = int(tr.contour["reason"][i])
-        if code < 16:
+        simple = bool(tr.contour["simple"][i])
+        star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
+        if code < 16 and star_tried:
             lines.append(f"contour test: kernel point {np.round(tr.contour['kernel'][i], 6).tolist()}, "
                          f"ray {np.round(tr.contour['ray'][i], 4).tolist()}, crossings {int(tr.contour['crossings'][i])}")
+        elif code < 16:
+            lines.append("contour test: the simplicity test, run first: it proved this node in the previous query")
         verdict = "culled" if code == 0 else "not culled"
         lines.append(f"verdict: {verdict}, {REASONS[code][0]}: "
-                     + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], tr.contour["simple"][i]) + ".")
+                     + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], simple, star_tried) + ".")
         return "\n".join(lines)
     # Not judged itself: say why.
     culled = set(tr.culled_nodes().tolist())

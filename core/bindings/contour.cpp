@@ -124,23 +124,29 @@ void bind_contour(py::module_& m) {
         "overlap (certified).");
     m.def(
         "nc_contour_test",
-        [](const I32Array& loop, const F64Array& V, const F64Array& l) {
+        [](const I32Array& loop, const F64Array& V, const F64Array& l, bool simplicity_first) {
             const Vec3 axis = check_loop_pose(loop, V, l);
-            return verdict_dict(Discrete{V.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
+            FirstTest first = simplicity_first ? FirstTest::kSimplicity : FirstTest::kStar;
+            return verdict_dict(
+                Discrete{V.data(), &first}.contour_test(0, loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
         },
-        py::arg("loop"), py::arg("V"), py::arg("l"),
+        py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("simplicity_first") = false,
         "The contour test \"nc\" runs in its traversal (DCD): Alg. 1 with the mean, then the simplicity\n"
-        "fallback, then the kernel-point search where the fallback gave up. \"simple\": passed by the fallback.");
+        "test, then the kernel-point search where the simplicity test gave up; with simplicity_first, the\n"
+        "simplicity test first (as the traversal does on a node it proved in the previous query), then\n"
+        "Alg. 1. \"simple\": passed by the simplicity test (no kernel point, NaN, if it ran first).");
     m.def(
         "nc_contour_test_ccd",
-        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
+        [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l, bool simplicity_first) {
             const Vec3 axis = check_loop_step(loop, V0, V1, l);
-            return verdict_dict(
-                Continuous{V0.data(), V1.data()}.contour_test(loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
+            FirstTest first = simplicity_first ? FirstTest::kSimplicity : FirstTest::kStar;
+            return verdict_dict(Continuous{V0.data(), V1.data(), &first}.contour_test(
+                0, loop.data(), static_cast<int32_t>(loop.shape(0)), axis));
         },
-        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"),
+        py::arg("loop"), py::arg("V0"), py::arg("V1"), py::arg("l"), py::arg("simplicity_first") = false,
         "The contour test \"nc\" runs in its traversal over the step V0 -> V1 (CCD): Alg. 3 with the means, the\n"
-        "simplicity fallback, then the kernel-point search wherever the fallback failed.");
+        "simplicity test, then the kernel-point search wherever the simplicity test failed; with\n"
+        "simplicity_first, the simplicity test first, then Alg. 3 and the search.");
     m.def(
         "cbc_contour_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {

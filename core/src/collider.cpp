@@ -71,6 +71,8 @@ void SelfCollider::build(const double* V) {
     contours_ = build_contours(bvh_, *topo_);
     dcd_front_.reset(bvh_);
     ccd_front_.reset(bvh_);
+    dcd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
+    ccd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
     built_ = true;
 }
 
@@ -171,7 +173,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             const auto t0 = Clock::now();
             const auto run = [&](auto cones) {
                 constexpr bool kCones = decltype(cones)::value;
-                const Discrete motion{V};
+                const Discrete motion{V, dcd_first_.data()};
                 const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
                     return SelfCollideTraversal<kCones, Tracer, Discrete, false>(bvh_, contours_, cones_, motion, tracer,
                                                                                 s, out);
@@ -196,7 +198,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
         }
     }
     auto t0 = Clock::now();
-    traverse(Discrete{V}, tracer, st);
+    traverse(Discrete{V, dcd_first_.data()}, tracer, st);
     st.seconds_traversal = seconds_since(t0);
 
     t0 = Clock::now();
@@ -505,7 +507,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             if (method_ == Method::kAabb || method_ == Method::kNc) {
                 // Without a front to keep complete, the traversal stops at the hit too.
                 t0 = Clock::now();
-                const Continuous motion{V0, V1};
+                const Continuous motion{V0, V1, ccd_first_.data()};
                 const auto run = [&](auto cones) {
                     constexpr bool kCones = decltype(cones)::value;
                     const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
@@ -541,7 +543,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             // first contact (FirstHitChunk), so the chunks up to the first with a contact hold
             // exactly the tests up to the first contact in candidate order, whatever the chunking.
             t0 = Clock::now();
-            traverse(Continuous{V0, V1}, tracer, st);
+            traverse(Continuous{V0, V1, ccd_first_.data()}, tracer, st);
             st.seconds_traversal = seconds_since(t0);
             t0 = Clock::now();
             const CandidateList& candidates = candidate_list_;
@@ -567,7 +569,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     }
 
     t0 = Clock::now();
-    traverse(Continuous{V0, V1}, tracer, st);
+    traverse(Continuous{V0, V1, ccd_first_.data()}, tracer, st);
     st.seconds_traversal = seconds_since(t0);
 
     t0 = Clock::now();

@@ -207,6 +207,50 @@ def test_nc_ccd_with_the_fallback_equals_the_brute_force():
     assert by_fallback > 0
 
 
+def test_nc_runs_first_the_test_that_proved_the_node_last():
+    """FirstTest: "nc" remembers per node which test proved it and runs that one first in the next
+    query. The same frame twice on a fresh collider: the same pairs, culled nodes and nodes proved
+    by the simplicity test; the second time those skip Alg. 1's attempt with the mean (no kernel
+    point in their events), and the edge counts drop by exactly that attempt's edges, node by
+    node (the single-loop binding with and without simplicity_first). The explanations say which
+    way each was proved."""
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.explain import explain_node
+
+    F, X = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=X.shape[1]), method="nc")
+    first = col.dcd(X[20], trace=True)  # builds the BVH: every node tries Alg. 1 first
+    again = col.dcd(X[20], trace=True)
+    assert np.array_equal(first.pairs, again.pairs)
+    for key in ("contour_tests", "contour_passed", "contour_passed_simple", "contour_failed"):
+        assert first.stats[key] == again.stats[key], key
+    c1, c2 = first.trace.contour, again.trace.contour
+    assert np.array_equal(c1["node"], c2["node"]) and np.array_equal(c1["simple"], c2["simple"])
+    simple = c1["simple"]
+    assert simple.sum() > 0 and (~simple & (c1["reason"] == 0)).sum() > 0
+    assert np.isfinite(c1["kernel"]).all()  # Alg. 1 ran first everywhere
+    assert np.isnan(c2["kernel"][simple]).all() and np.isnan(c2["ray"][simple]).all()
+    assert np.isfinite(c2["kernel"][~simple]).all()
+    ct, axes = col.contour_arrays(), col.cone_arrays()["axis"]
+    saved = 0
+    for node in c1["node"][simple]:
+        loop = ct["vertices"][ct["offsets"][node]:ct["offsets"][node + 1]].astype(np.int32)
+        star_first = CT.nc_contour_test(loop, X[20], axes[node])
+        sweep_first = CT.nc_contour_test(loop, X[20], axes[node], simplicity_first=True)
+        assert star_first["passed"] and star_first["simple"] and sweep_first["passed"] and sweep_first["simple"]
+        assert sweep_first["edges_visited"] == CT.simplicity_test(loop, X[20], axes[node])["edges_visited"]
+        saved += star_first["edges_visited"] - sweep_first["edges_visited"]
+    assert saved > 0 and first.stats["contour_edges"] - again.stats["contour_edges"] == saved
+    node = int(c1["node"][np.flatnonzero(simple)[0]])
+    text1, text2 = explain_node(col, first, node), explain_node(col, again, node)
+    assert "not star-shaped from its kernel point, but it projects to a simple polygon" in text1
+    assert "the simplicity test, run first" in text2 and "kernel point" not in text2
+    assert "verdict: culled, passed: the contour projects to a simple polygon" in text2
+    # ... and a node proved by Alg. 1 keeps it first.
+    star = int(c1["node"][np.flatnonzero(~simple & (c1["reason"] == 0))[0]])
+    assert "star-shaped polygon around its kernel point" in explain_node(col, again, star)
+
+
 def test_trace_and_explain_name_the_fallback():
     """The trace marks the nodes the fallback culled (contour event field `simple`, reason 0), as
     many as the stats count, and `explain` says why such a node was culled."""
@@ -295,6 +339,42 @@ def test_nc_order_mean_then_simplicity_then_kernel_search():
     assert res["edges_visited"] > swept["edges_visited"] + mean_ccd["edges_visited"]
     P1 = P + 0.001
     res = CT.nc_contour_test_ccd(np.arange(600, dtype=np.int32), P, P1, l)
+    assert res["passed"] and not res["simple"]
+
+
+def test_nc_order_with_the_simplicity_test_first():
+    """simplicity_first (a node the simplicity test proved in the previous query): the simplicity
+    test; where it fails, Alg. 1 with the mean, then the kernel-point search where the simplicity
+    test gave up. A failure reports Alg. 1's verdict, as with Alg. 1 first."""
+    l = np.array([0.0, 0.0, 1.0])
+    E = np.array([[0, 0, 0], [3, 0, 0], [3, 1, 0], [1, 1, 0], [1, 2, 0], [3, 2, 0], [3, 3, 0], [0, 3, 0]], float)
+    ids = np.arange(len(E), dtype=np.int32)
+    res = CT.nc_contour_test(ids, E, l, simplicity_first=True)
+    assert res["passed"] and res["simple"] and np.isnan(res["kernel"]).all() and np.isnan(res["ray"]).all()
+    assert res["edges_visited"] == CT.simplicity_test(ids, E, l)["edges_visited"]
+    # Lopsided star: the sweep gives up, the mean fails, the kernel search passes it.
+    P = _lopsided_star()
+    pids = np.arange(len(P), dtype=np.int32)
+    sweep, full = CT.simplicity_test(pids, P, l), CT.contour_test(pids, P, l)
+    res = CT.nc_contour_test(pids, P, l, simplicity_first=True)
+    assert res["passed"] and not res["simple"]
+    assert res["edges_visited"] == sweep["edges_visited"] + full["edges_visited"]
+    # Not simple: the pair test proves it; Alg. 1 runs for the verdict, no kernel search.
+    E[4] = [4, 0.5, 0]
+    res = CT.nc_contour_test(ids, E, l, simplicity_first=True)
+    star = CT.nc_contour_test(ids, E, l)
+    mean = _mean_only(ids, E, l)
+    assert not res["passed"] and not res["simple"]
+    for key in ("reason", "edge", "crossings"):
+        assert res[key] == star[key] == mean[key], key
+    assert np.array_equal(res["kernel"], mean["kernel"]) and np.array_equal(res["ray"], mean["ray"])
+    assert res["edges_visited"] == star["edges_visited"]
+    # Over a step: the sweep, then Alg. 3 and the search after any failure.
+    res = CT.nc_contour_test_ccd(ids, E, E + 0.01, l, simplicity_first=True)
+    assert not res["passed"] and res["edges_visited"] == CT.nc_contour_test_ccd(ids, E, E + 0.01, l)["edges_visited"]
+    ok = CT.nc_contour_test_ccd(ids[:4], E[:4], E[:4] + 0.01, l, simplicity_first=True)
+    assert ok["passed"] and ok["simple"] and np.isnan(ok["kernel_end"]).all()
+    res = CT.nc_contour_test_ccd(pids, P, P + 0.001, l, simplicity_first=True)
     assert res["passed"] and not res["simple"]
 
 

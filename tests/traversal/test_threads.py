@@ -161,14 +161,21 @@ def test_queries_after_idle_gaps_and_from_two_threads():
 
     F, frames = sequences()["folding_sheet"]
     mesh = conecull.Mesh(F)
-    one = conecull.SelfCollider(mesh, method="nc", threads=1)  # its BVH is built from frames[-3], as theirs
-    ref = [one.dcd(V) for V in frames[-3:]]
+    # The one-thread answers, with the workers' history of queries: its BVH is built from
+    # frames[-3], as theirs, and the contour tests' order (so contour_edges) follows the queries
+    # before (FirstTest, contour_test_simple.hpp).
+    one = conecull.SelfCollider(mesh, method="nc", threads=1)
+    ref = []
+    for _ in range(4):
+        for V in frames[-3:]:
+            ref.append(one.dcd(V))
+            one.dcd(V, trace=True)
     errors = []
 
     def run(col):
         try:
-            for _ in range(4):
-                for V, r in zip(frames[-3:], ref):
+            for k in range(4):
+                for V, r in zip(frames[-3:], ref[3 * k:3 * k + 3]):
                     time.sleep(0.005)
                     got = col.dcd(V, threads=2)
                     assert np.array_equal(got.pairs, r.pairs) and counters(got.stats) == counters(r.stats)

@@ -114,6 +114,10 @@ class SelfCollider {
     // boxes overlap more, so alternating queries sharing one front would keep regrowing it.
     // (Sharing would still be exact: any cut is; see bvtt_front.hpp.)
     BvttFront dcd_front_, ccd_front_;
+    // "nc" / "nc+front": per node, the contour test to run first (FirstTest: the one that proved
+    // the node in the last query of the kind; contour_test_simple.hpp). Only the order, and so the
+    // edges visited, depends on it: the culled nodes do not.
+    std::vector<FirstTest> dcd_first_, ccd_first_;
     std::vector<TrianglePair> candidates_;  // reused between queries
     CandidateList candidate_list_;          // the query's candidates: candidates_ or the parallel traversal's
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives

@@ -48,8 +48,9 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("kernel_end", "float64", (3,), "length", "CCD: the kernel point at t = 1 (it moves linearly over the "
                   "step: the mean's, or the clipped kernel's of the contour at t = 1); DCD: the kernel point again"),
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
-            Field("simple", "bool", (), "", "passed by the simplicity fallback: Alg. 1 failed (kernel, ray: its "
-                  "attempt), but the contour projects to a simple polygon (nc; reason 0)"),
+            Field("simple", "bool", (), "", "passed by the simplicity test: the contour projects to a simple "
+                  "polygon (nc; reason 0). Run after Alg. 1 failed (kernel, ray: its attempt), or first on a node "
+                  "it proved in the previous query (kernel, kernel_end, ray: NaN)"),
         )),
         EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "
                   "front (Alg. 4), the front entries and the sibling merges tested too.", (
@@ -95,14 +96,19 @@ def reason_name(code: int) -> str:
     return REASONS[int(code)][0]
 
 
-# A pass by the simplicity fallback (the contour event's `simple`): reason 0, in other words.
-PASSED_SIMPLE = ("passed", "the contour is not star-shaped from its kernel point, but it projects to a simple polygon "
-                           "(no two edges meet): no self-collision, culled")
+# A pass by the simplicity test (the contour event's `simple`): reason 0, in other words. "nc" runs
+# it after Alg. 1 failed with the mean (kernel, ray: that attempt), or first on a node it proved in
+# the previous query (kernel, ray: NaN, as no kernel point was tried).
+PASSED_SIMPLE = ("passed", "the contour projects to a simple polygon (no two edges meet): no self-collision, culled")
+PASSED_SIMPLE_AFTER_STAR = ("passed", "the contour is not star-shaped from its kernel point, but it projects to a "
+                                      "simple polygon (no two edges meet): no self-collision, culled")
 
 
-def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False) -> str:
+def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False, star_tried: bool = True) -> str:
+    """The sentence for a contour verdict. simple: passed by the simplicity test; star_tried: Alg. 1
+    failed before it (the event's kernel point is finite)."""
     if int(code) == 0 and simple:
-        return PASSED_SIMPLE[1]
+        return (PASSED_SIMPLE_AFTER_STAR if star_tried else PASSED_SIMPLE)[1]
     return REASONS[int(code)][1].format(edge=int(edge), crossings=int(crossings))
 
 

@@ -37,32 +37,44 @@ struct BvttTask {
 // The motion a query covers and its contour test, as a policy of the traversal (chosen at
 // compile time per method: no virtual call in the loop): one pose (DCD) or a linear step from V0
 // to V1 (CCD). Only the contour test depends on it; boxes and cones were refit beforehand.
-// Ours, the unprojected test: Alg. 1 (DCD), Alg. 3 (CCD).
-// DCD: Alg. 1 with the mean, then, where it fails, the simplicity fallback and the kernel-point
-// search (with_simplicity_fallback, contour_test_simple.hpp): the star test proves the projected
-// contour simple cheaply, the fallback decides simplicity on the contours it cannot. A failure
-// keeps Alg. 1's verdict (its reason, kernel point and ray).
+// Ours, the unprojected test: Alg. 1 (DCD), Alg. 3 (CCD), with the simplicity fallback and the
+// kernel-point search (with_simplicity_fallback, contour_test_simple.hpp): the star test proves
+// most contours simple cheaply, the fallback decides simplicity on those it cannot. `first`, if
+// given, holds per node the test to run first (FirstTest: the one that proved the node in the
+// previous query; the collider keeps one array per query kind), and is updated; without it, Alg. 1
+// runs first. Each node's entry is read and written only by its own contour test, which runs at
+// most once per query, so parallel tasks never share one. A failure reports Alg. 1's verdict (its
+// reason, kernel point and ray).
+// DCD: one pose.
 struct Discrete {
     static constexpr bool kContinuous = false;
     const double* V;
-    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        return with_simplicity_fallback(
-            unprojected_contour_test_at_mean(loop, n, V, l), n, true,
+    FirstTest* first = nullptr;
+    ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
+        const FirstTest order = first ? first[node] : FirstTest::kStar;
+        const ContourVerdict v = with_simplicity_fallback(
+            n, true, order, [&] { return unprojected_contour_test_at_mean(loop, n, V, l); },
             [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); },
             [&](const ContourVerdict& v) { return retry_kernel_point(v, loop, n, V, l); });
+        if (first) first[node] = next_first_test(v, order);
+        return v;
     }
 };
-// CCD: Alg. 3 with the means, then the simplicity fallback over the step (simple at every t) and
-// the kernel-point search.
+// CCD: Alg. 3 with the means, the simplicity fallback over the step (simple at every t) and the
+// kernel-point search.
 struct Continuous {
     static constexpr bool kContinuous = true;
     const double* V0;
     const double* V1;
-    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
-        return with_simplicity_fallback(
-            unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l), n, false,
+    FirstTest* first = nullptr;
+    ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
+        const FirstTest order = first ? first[node] : FirstTest::kStar;
+        const ContourVerdict v = with_simplicity_fallback(
+            n, false, order, [&] { return unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l); },
             [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); },
             [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, loop, n, V0, V1, l); });
+        if (first) first[node] = next_first_test(v, order);
+        return v;
     }
 };
 // Baselines (Sec. 6.1). "sct": the projected star-contour test of [SPO10] (DCD only).
@@ -70,7 +82,7 @@ struct DiscreteProjected {
     static constexpr bool kContinuous = false;
     const double* V;
     ProjectionScratch* scratch;
-    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
+    ContourVerdict contour_test(int32_t, const int32_t* loop, int32_t n, const Vec3& l) const {
         return projected_contour_test(loop, n, V, l, *scratch);
     }
 };
@@ -78,7 +90,7 @@ struct DiscreteProjected {
 struct DiscreteQuadratic {
     static constexpr bool kContinuous = false;
     const double* V;
-    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
+    ContourVerdict contour_test(int32_t, const int32_t* loop, int32_t n, const Vec3& l) const {
         return quadratic_contour_test(loop, n, V, l);
     }
 };
@@ -86,7 +98,7 @@ struct ContinuousQuadratic {
     static constexpr bool kContinuous = true;
     const double* V0;
     const double* V1;
-    ContourVerdict contour_test(const int32_t* loop, int32_t n, const Vec3& l) const {
+    ContourVerdict contour_test(int32_t, const int32_t* loop, int32_t n, const Vec3& l) const {
         return quadratic_contour_test_ccd(loop, n, V0, V1, l);
     }
 };
@@ -211,7 +223,7 @@ class SelfCollideTraversal {
         // Fig. 9's measure: time inside the contour tests, a steady clock around each call
         // (two clock reads, ~2 x 20 ns, included; cheap next to the test on large nodes).
         const auto t0 = std::chrono::steady_clock::now();
-        const ContourVerdict v = motion_.contour_test(contours_.loop(i), contours_.loop_size(i), cone.axis);
+        const ContourVerdict v = motion_.contour_test(i, contours_.loop(i), contours_.loop_size(i), cone.axis);
         stats_.seconds_contour += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         stats_.contour_edges += v.edges_visited;
         ++stats_.contour_reasons[static_cast<int>(v.reason)];
