@@ -7,7 +7,7 @@
 // extents along one direction g of the projection plane are bucketed and swept, and a pair whose
 // extents along g or along the perpendicular h are apart by more than the projections' error
 // bound cannot meet (a separating axis), so it is skipped unexamined; adjacent edges are mostly
-// settled from the same coordinates (turn_apart). O(n + k) for the k pairs scanned, where
+// settled from the same coordinates (turn_margin). O(n + k) for the k pairs scanned, where
 // [TCYM09]'s test is O(n^2); k is capped at kSimplicityPairsPerEdge n (then the test gives up).
 // Why: a contour can be simple without being star-shaped (a C-shaped or long bent patch; the
 // clipped kernel is empty), and then Alg. 1 traverses the whole subtree below.
@@ -36,12 +36,17 @@ struct SweepEdge {
 };
 
 struct SimplicityScratch {
-    std::vector<double> g, h;              // each vertex's Z along g and h, n per pose
     std::vector<SweepEdge> edges;          // in loop order
     std::vector<int32_t> order;            // the sweep order
     std::vector<double> floor;             // floor[a]: the least lo from sweep position a on
     std::vector<int32_t> count;            // the counting sort's buckets
     bool gave_up = false;                  // the last test failed unproven (its budget, or not finite)
+};
+
+// A vertex's rounded coordinates along g and h (simplicity_test), in each pose.
+template <int n_poses>
+struct ZPoint {
+    double g[n_poses], h[n_poses];
 };
 
 // Adjacent edges (a, b), (b, c) meet only at b when the projected vectors A = a - b and C = c - b
@@ -56,26 +61,32 @@ struct SimplicityScratch {
 // delta = 39.3 eps D1 scale of the exact one, R = 3.24 D1 scale bounding it; a sum of two rounded
 // products within 4 R delta + 4 eps R^2 (1 + O(eps)) < 551 eps (D1 scale)^2 of the exact value:
 // `bound` = 1024 eps (D1 scale)^2 covers k0 and k2, and 2 bound the four products of 2 k1
-// (8 R delta + 16 eps R^2 < 1188 eps (D1 scale)^2).
+// (8 R delta + 16 eps R^2 < 1188 eps (D1 scale)^2). The turn is proven iff turn_margin > bound:
+// the margin is the largest of -dot and |cross| (one pose), or, over a step, of the least
+// coefficient of -dot, of cross and of -cross, the middle one halved (exact: a middle coefficient
+// beyond 2 bound is a normal double). A margin, not a verdict, so that one pass can keep the least
+// over the loop and compare it with the bound once D1 is known.
 template <int n_poses>
-bool turn_apart(const double* g, const double* h, size_t nn, int32_t a, int32_t b, int32_t c, double bound) {
-    double ag[2], ah[2], cg[2], ch[2];
+double turn_margin(const ZPoint<n_poses>& a, const ZPoint<n_poses>& b, const ZPoint<n_poses>& c) {
+    double ag[n_poses], ah[n_poses], cg[n_poses], ch[n_poses];
     for (int k = 0; k < n_poses; ++k) {
-        const size_t o = k * nn;
-        ag[k] = g[o + a] - g[o + b], ah[k] = h[o + a] - h[o + b];
-        cg[k] = g[o + c] - g[o + b], ch[k] = h[o + c] - h[o + b];
+        ag[k] = a.g[k] - b.g[k], ah[k] = a.h[k] - b.h[k];
+        cg[k] = c.g[k] - b.g[k], ch[k] = c.h[k] - b.h[k];
     }
+    const auto mn = [](double x, double y) { return y < x ? y : x; };
+    const auto mx = [](double x, double y) { return y > x ? y : x; };
     if constexpr (n_poses == 1) {  // one pose: k0 alone
         const double dot = ag[0] * cg[0] + ah[0] * ch[0], cr = ag[0] * ch[0] - ah[0] * cg[0];
-        return (dot < -bound) | (cr > bound) | (cr < -bound);
+        return mx(-dot, mx(cr, -cr));
     }
     const int m = n_poses - 1;
     const double dot0 = ag[0] * cg[0] + ah[0] * ch[0], dot2 = ag[m] * cg[m] + ah[m] * ch[m];
     const double dot1 = ag[0] * cg[m] + ah[0] * ch[m] + ag[m] * cg[0] + ah[m] * ch[0];
-    if (dot0 < -bound && dot2 < -bound && dot1 < -2.0 * bound) return true;
     const double cr0 = ag[0] * ch[0] - ah[0] * cg[0], cr2 = ag[m] * ch[m] - ah[m] * cg[m];
     const double cr1 = ag[0] * ch[m] - ah[0] * cg[m] + ag[m] * ch[0] - ah[m] * cg[0];
-    return (cr0 > bound && cr2 > bound && cr1 > 2.0 * bound) || (cr0 < -bound && cr2 < -bound && cr1 < -2.0 * bound);
+    const double back = mn(mn(-dot0, -dot2), -0.5 * dot1);
+    const double left = mn(mn(cr0, cr2), 0.5 * cr1), right = mn(mn(-cr0, -cr2), -0.5 * cr1);
+    return mx(back, mx(left, right));
 }
 
 // The test on the loop of vertex ids `loop` over `n_poses` positions P[k] (DCD: one; CCD: two, the
@@ -110,33 +121,73 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     const ProjectionFrame f = projection_frame(l);
     const Vec3 c = load(P[0], loop[0]);
     const size_t nn = static_cast<size_t>(n);
-    s.g.resize(nn * n_poses);
-    s.h.resize(nn * n_poses);
-    double* const g = s.g.data();
-    double* const h = s.h.data();
+    using Z = ZPoint<n_poses>;
     double d1 = 0.0, zmin = 0.0, zmax = 0.0;  // c itself: Z = 0
-    for (int k = 0; k < n_poses; ++k)
-        for (int32_t i = 0; i < n; ++i) {
+    const auto zpoint = [&](int32_t i) {
+        Z z;
+        for (int k = 0; k < n_poses; ++k) {
             double x, y;
             d1 = max_into(d1, project(load(P[k], loop[i]), c, f, x, y));
-            const double zg = x + phi * y;
-            g[k * nn + i] = zg;
-            h[k * nn + i] = y - phi * x;
-            zmin = min_into(zmin, zg), zmax = max_into(zmax, zg);
+            z.g[k] = x + phi * y;
+            z.h[k] = y - phi * x;
+            zmin = min_into(zmin, z.g[k]), zmax = max_into(zmax, z.g[k]);
         }
-    const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
-    if (!std::isfinite(gap)) return s.gave_up = true, fail(0, 0);
+        return z;
+    };
     // An edge's extents: the hull of its ends' Z over the poses.
-    const auto extent = [&](int32_t i, int32_t i1) {
-        SweepEdge e{g[i], g[i], h[i], h[i]};
+    const auto extent = [](const Z& a, const Z& b) {
+        SweepEdge e{a.g[0], a.g[0], a.h[0], a.h[0]};
         for (int k = 0; k < n_poses; ++k)
-            for (const int32_t v : {i, i1}) {
-                const double zg = g[k * nn + v], zh = h[k * nn + v];
-                e.lo = min_into(e.lo, zg), e.hi = max_into(e.hi, zg);
-                e.hlo = min_into(e.hlo, zh), e.hhi = max_into(e.hhi, zh);
+            for (const Z* v : {&a, &b}) {
+                e.lo = min_into(e.lo, v->g[k]), e.hi = max_into(e.hi, v->g[k]);
+                e.hlo = min_into(e.hlo, v->h[k]), e.hhi = max_into(e.hhi, v->h[k]);
             }
         return e;
     };
+    // One pass over the loop (n >= 3): each vertex projected once, in every pose; the extents of
+    // the edge it ends; the turn at the vertex before (adjacent edges share a vertex, so no extent
+    // separates them: turn_margin settles most of them, the predicates the rest), kept as the least
+    // margin, compared with the bound once D1 is known (the projections' bound needs all of them).
+    s.edges.resize(nn);
+    SweepEdge* const ed = s.edges.data();
+    const Z z0 = zpoint(0), z1 = zpoint(1);
+    ed[0] = extent(z0, z1);
+    double margin = std::numeric_limits<double>::infinity();
+    Z za = z0, zb = z1;
+    for (int32_t i = 2; i < n; ++i) {
+        const Z zc = zpoint(i);
+        margin = min_into(margin, turn_margin(za, zb, zc));  // at vertex i - 1
+        ed[i - 1] = extent(zb, zc);
+        za = zb, zb = zc;
+    }
+    margin = min_into(margin, turn_margin(za, zb, z0));  // at vertex n - 1
+    margin = min_into(margin, turn_margin(zb, z0, z1));  // at vertex 0
+    ed[n - 1] = extent(zb, z0);
+    const double gap = 64.0 * kEps * d1 * f.scale;  // > 2 x 18 + 4 eps D1 scale, with room
+    if (!std::isfinite(gap)) return s.gave_up = true, fail(0, 0);
+    const double ds = d1 * f.scale, bound = 1024.0 * kEps * ds * ds;
+    if (!(margin > bound)) {
+        // Some turn is not proven from the coordinates: in loop order, each such one by the
+        // predicates (the first not proven apart fails; the counts as if each pair was examined).
+        const auto again = [&](int32_t i) {  // vertex i's Z, the same numbers as zpoint's
+            Z z;
+            for (int k = 0; k < n_poses; ++k) {
+                double x, y;
+                project(load(P[k], loop[i]), c, f, x, y);
+                z.g[k] = x + phi * y;
+                z.h[k] = y - phi * x;
+            }
+            return z;
+        };
+        for (int32_t i = 0; i < n; ++i) {
+            const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
+            out.edges_visited += 2;
+            if (!(turn_margin(again(i), again(i1), again(i2)) > bound) && !adjacent_edges_apart(signs, i, i1, i2))
+                return fail(i, i1);
+        }
+    } else {
+        out.edges_visited += 2 * n;
+    }
     // Sweep order: the edges bucketed by lo (a counting sort into n buckets over the range of the
     // vertices' Z_g, O(n)); within a bucket in loop order. The order need not be exact: floor[a],
     // the least lo from position a on, is what ends the scan, so a pair is skipped only if proven
@@ -147,25 +198,12 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
         return z < n - 1 ? static_cast<int32_t>(z) : n - 1;
     };
     s.count.assign(nn + 1, 0);
-    s.edges.resize(nn);
-    // One pass: adjacent edges (every pair of them shares a vertex, so no extent separates them;
-    // most are settled by turn_apart on the coordinates at hand, the rest by the predicates), and
-    // each edge's extents and bucket.
-    const double ds = d1 * f.scale, bound = 1024.0 * kEps * ds * ds;
-    for (int32_t i = 0; i < n; ++i) {
-        const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
-        out.edges_visited += 2;
-        if (!turn_apart<n_poses>(g, h, nn, i, i1, i2, bound) && !adjacent_edges_apart(signs, i, i1, i2))
-            return fail(i, i1);
-        s.edges[i] = extent(i, i1);
-        ++s.count[bucket(s.edges[i].lo) + 1];
-    }
+    for (int32_t i = 0; i < n; ++i) ++s.count[bucket(ed[i].lo) + 1];
     for (int32_t b = 0; b < n; ++b) s.count[b + 1] += s.count[b];
     s.order.resize(nn);
-    for (int32_t i = 0; i < n; ++i) s.order[s.count[bucket(s.edges[i].lo)]++] = i;
+    for (int32_t i = 0; i < n; ++i) s.order[s.count[bucket(ed[i].lo)]++] = i;
     s.floor.resize(nn + 1);
     double* const floor = s.floor.data();
-    const SweepEdge* const ed = s.edges.data();
     const int32_t* const order = s.order.data();
     floor[n] = std::numeric_limits<double>::infinity();
     for (int32_t a = n - 1; a >= 0; --a) floor[a] = min_into(floor[a + 1], ed[order[a]].lo);
