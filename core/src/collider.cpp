@@ -173,7 +173,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             const auto t0 = Clock::now();
             const auto run = [&](auto cones) {
                 constexpr bool kCones = decltype(cones)::value;
-                const Discrete motion{V, dcd_first_.data()};
+                const Discrete motion{V, dcd_first_.data(), false};  // first hit: no learning (see Discrete)
                 const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
                     return SelfCollideTraversal<kCones, Tracer, Discrete, false>(bvh_, contours_, cones_, motion, tracer,
                                                                                 s, out);
@@ -507,7 +507,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             if (method_ == Method::kAabb || method_ == Method::kNc) {
                 // Without a front to keep complete, the traversal stops at the hit too.
                 t0 = Clock::now();
-                const Continuous motion{V0, V1, ccd_first_.data()};
+                const Continuous motion{V0, V1, ccd_first_.data(), false};  // first hit: no learning
                 const auto run = [&](auto cones) {
                     constexpr bool kCones = decltype(cones)::value;
                     const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {

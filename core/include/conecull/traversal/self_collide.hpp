@@ -41,22 +41,25 @@ struct BvttTask {
 // kernel-point search (with_simplicity_fallback, contour_test_simple.hpp): the star test proves
 // most contours simple cheaply, the fallback decides simplicity on those it cannot. `first`, if
 // given, holds per node the test to run first (FirstTest: the one that proved the node in the
-// previous query; the collider keeps one array per query kind), and is updated; without it, Alg. 1
-// runs first. Each node's entry is read and written only by its own contour test, which runs at
-// most once per query, so parallel tasks never share one. A failure reports Alg. 1's verdict (its
-// reason, kernel point and ray).
+// previous query; the collider keeps one array per query kind), and is updated if `learn`; without
+// it, Alg. 1 runs first. Each node's entry is read and written only by its own contour test, which
+// runs at most once per query, so parallel tasks never share one. A query that stops at its first
+// hit does not learn: on several threads, which tasks past the hit run depends on timing, and the
+// order must not (the counters of later queries depend on it). A failure reports Alg. 1's verdict
+// (its reason, kernel point and ray).
 // DCD: one pose.
 struct Discrete {
     static constexpr bool kContinuous = false;
     const double* V;
     FirstTest* first = nullptr;
+    bool learn = true;
     ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
         const FirstTest order = first ? first[node] : FirstTest::kStar;
         const ContourVerdict v = with_simplicity_fallback(
             n, true, order, [&] { return unprojected_contour_test_at_mean(loop, n, V, l); },
             [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); },
             [&](const ContourVerdict& v) { return retry_kernel_point(v, loop, n, V, l); });
-        if (first) first[node] = next_first_test(v, order);
+        if (first && learn) first[node] = next_first_test(v, order);
         return v;
     }
 };
@@ -67,13 +70,14 @@ struct Continuous {
     const double* V0;
     const double* V1;
     FirstTest* first = nullptr;
+    bool learn = true;
     ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
         const FirstTest order = first ? first[node] : FirstTest::kStar;
         const ContourVerdict v = with_simplicity_fallback(
             n, false, order, [&] { return unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l); },
             [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); },
             [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, loop, n, V0, V1, l); });
-        if (first) first[node] = next_first_test(v, order);
+        if (first && learn) first[node] = next_first_test(v, order);
         return v;
     }
 };
