@@ -103,7 +103,7 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
             lines.append(f"contour test: kernel point {np.round(tr.contour['kernel'][i], 6).tolist()}, "
                          f"ray {np.round(tr.contour['ray'][i], 4).tolist()}, crossings {int(tr.contour['crossings'][i])}")
         elif code < 16:
-            lines.append("contour test: the simplicity test, run first: it proved this node in the previous query")
+            lines.append("contour test: the simplicity test, run first: it proved this node when last tested")
         verdict = "culled" if code == 0 else "not culled"
         lines.append(f"verdict: {verdict}, {REASONS[code][0]}: "
                      + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], simple, star_tried) + ".")

@@ -133,7 +133,7 @@ void bind_contour(py::module_& m) {
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("simplicity_first") = false,
         "The contour test \"nc\" runs in its traversal (DCD): Alg. 1 with the mean, then the simplicity\n"
         "test, then the kernel-point search where the simplicity test gave up; with simplicity_first, the\n"
-        "simplicity test first (as the traversal does on a node it proved in the previous query), then\n"
+        "simplicity test first (as the traversal does on a node it proved when last tested), then\n"
         "Alg. 1. \"simple\": passed by the simplicity test (no kernel point, NaN, if it ran first).");
     m.def(
         "nc_contour_test_ccd",

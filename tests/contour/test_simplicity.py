@@ -343,7 +343,7 @@ def test_nc_order_mean_then_simplicity_then_kernel_search():
 
 
 def test_nc_order_with_the_simplicity_test_first():
-    """simplicity_first (a node the simplicity test proved in the previous query): the simplicity
+    """simplicity_first (a node the simplicity test proved when last tested): the simplicity
     test; where it fails, Alg. 1 with the mean, then the kernel-point search where the simplicity
     test gave up. A failure reports Alg. 1's verdict, as with Alg. 1 first."""
     l = np.array([0.0, 0.0, 1.0])

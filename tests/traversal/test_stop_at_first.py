@@ -132,7 +132,7 @@ def test_stop_at_first_bad_value():
 
 @pytest.mark.parametrize("kind", ["dcd", "ccd"])
 def test_first_hit_queries_leave_the_contour_test_order_alone(kind):
-    """"nc" runs first, per node, the contour test that proved it in the last query (FirstTest). A
+    """"nc" runs first, per node, the contour test that proved it when last tested (FirstTest). A
     query that stops at its first hit leaves that memory alone: on several threads, which tasks past
     the hit run depends on timing. So the full query after one counts exactly as with no first-hit
     query in between, on any thread count (a build that learns in first-hit queries fails this)."""

@@ -115,7 +115,7 @@ class SelfCollider {
     // (Sharing would still be exact: any cut is; see bvtt_front.hpp.)
     BvttFront dcd_front_, ccd_front_;
     // "nc" / "nc+front": per node, the contour test to run first (FirstTest: the one that proved
-    // the node in the last query of the kind; contour_test_simple.hpp). Only the order, and so the
+    // the node when a query of the kind last tested it; contour_test_simple.hpp). Only the order, and so the
     // edges visited, depends on it: the culled nodes do not.
     std::vector<FirstTest> dcd_first_, ccd_first_;
     std::vector<TrianglePair> candidates_;  // reused between queries

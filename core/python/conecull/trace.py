@@ -50,7 +50,7 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("ray", "float64", (3,), "direction", "ray direction r (its projection on the plane perpendicular to l)"),
             Field("simple", "bool", (), "", "passed by the simplicity test: the contour projects to a simple "
                   "polygon (nc; reason 0). Run after Alg. 1 failed (kernel, ray: its attempt), or first on a node "
-                  "it proved in the previous query (kernel, kernel_end, ray: NaN)"),
+                  "it proved when last tested (kernel, kernel_end, ray: NaN)"),
         )),
         EventKind("level", "Node pairs of Collide(A, B) per BVH level (depth of the deeper node); with a BVTT "
                   "front (Alg. 4), the front entries and the sibling merges tested too.", (
@@ -97,8 +97,8 @@ def reason_name(code: int) -> str:
 
 
 # A pass by the simplicity test (the contour event's `simple`): reason 0, in other words. "nc" runs
-# it after Alg. 1 failed with the mean (kernel, ray: that attempt), or first on a node it proved in
-# the previous query (kernel, ray: NaN, as no kernel point was tried).
+# it after Alg. 1 failed with the mean (kernel, ray: that attempt), or first on a node it proved when
+# the node was last tested (kernel, ray: NaN, as no kernel point was tried).
 PASSED_SIMPLE = ("passed", "the contour projects to a simple polygon (no two edges meet): no self-collision, culled")
 PASSED_SIMPLE_AFTER_STAR = ("passed", "the contour is not star-shaped from its kernel point, but it projects to a "
                                       "simple polygon (no two edges meet): no self-collision, culled")

@@ -244,8 +244,8 @@ inline ContourVerdict simplicity_test_ccd(const int32_t* loop, int32_t n, const 
     return simplicity_test<2>(loop, poses, n, l, s, QuadraticSignsContinuous{loop, V0, V1, l});
 }
 
-// Which of "nc"'s tests a node's contour test runs first: the one that proved the node in the
-// previous query (the collider keeps one per node; with_simplicity_fallback). Why: nodes keep
+// Which of "nc"'s tests a node's contour test runs first: the one that proved the node when it was
+// last tested (the collider keeps one per node; with_simplicity_fallback). Why: nodes keep
 // their shape from frame to frame, and so which test proves them (measured: 98-100% of the nodes
 // tested in two consecutive frames of our scenes); where Alg. 1 with the mean fails, it costs a
 // pass over the loop for nothing (on the 64K folding sheet, 218 of its 235 tests in 7 frames).

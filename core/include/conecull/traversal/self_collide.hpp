@@ -40,8 +40,8 @@ struct BvttTask {
 // Ours, the unprojected test: Alg. 1 (DCD), Alg. 3 (CCD), with the simplicity fallback and the
 // kernel-point search (with_simplicity_fallback, contour_test_simple.hpp): the star test proves
 // most contours simple cheaply, the fallback decides simplicity on those it cannot. `first`, if
-// given, holds per node the test to run first (FirstTest: the one that proved the node in the
-// previous query; the collider keeps one array per query kind), and is updated if `learn`; without
+// given, holds per node the test to run first (FirstTest: the one that proved the node when it was
+// last tested; the collider keeps one array per query kind), and is updated if `learn`; without
 // it, Alg. 1 runs first. Each node's entry is read and written only by its own contour test, which
 // runs at most once per query, so parallel tasks never share one. A query that stops at its first
 // hit does not learn: on several threads, which tasks past the hit run depends on timing, and the
