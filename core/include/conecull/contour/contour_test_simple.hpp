@@ -73,20 +73,18 @@ double turn_margin(const ZPoint<n_poses>& a, const ZPoint<n_poses>& b, const ZPo
         ag[k] = a.g[k] - b.g[k], ah[k] = a.h[k] - b.h[k];
         cg[k] = c.g[k] - b.g[k], ch[k] = c.h[k] - b.h[k];
     }
-    const auto mn = [](double x, double y) { return y < x ? y : x; };
-    const auto mx = [](double x, double y) { return y > x ? y : x; };
     if constexpr (n_poses == 1) {  // one pose: k0 alone
         const double dot = ag[0] * cg[0] + ah[0] * ch[0], cr = ag[0] * ch[0] - ah[0] * cg[0];
-        return mx(-dot, mx(cr, -cr));
+        return max_into(-dot, max_into(cr, -cr));
     }
     const int m = n_poses - 1;
     const double dot0 = ag[0] * cg[0] + ah[0] * ch[0], dot2 = ag[m] * cg[m] + ah[m] * ch[m];
     const double dot1 = ag[0] * cg[m] + ah[0] * ch[m] + ag[m] * cg[0] + ah[m] * ch[0];
     const double cr0 = ag[0] * ch[0] - ah[0] * cg[0], cr2 = ag[m] * ch[m] - ah[m] * cg[m];
     const double cr1 = ag[0] * ch[m] - ah[0] * cg[m] + ag[m] * ch[0] - ah[m] * cg[0];
-    const double back = mn(mn(-dot0, -dot2), -0.5 * dot1);
-    const double left = mn(mn(cr0, cr2), 0.5 * cr1), right = mn(mn(-cr0, -cr2), -0.5 * cr1);
-    return mx(back, mx(left, right));
+    const double back = min_into(min_into(-dot0, -dot2), -0.5 * dot1);
+    const double left = min_into(min_into(cr0, cr2), 0.5 * cr1), right = min_into(min_into(-cr0, -cr2), -0.5 * cr1);
+    return max_into(back, max_into(left, right));
 }
 
 // The test on the loop of vertex ids `loop` over `n_poses` positions P[k] (DCD: one; CCD: two, the
@@ -123,15 +121,20 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     const size_t nn = static_cast<size_t>(n);
     using Z = ZPoint<n_poses>;
     double d1 = 0.0, zmin = 0.0, zmax = 0.0;  // c itself: Z = 0
-    const auto zpoint = [&](int32_t i) {
+    // Vertex i's Z in every pose; `dmax` keeps the largest |p - c|_1.
+    const auto z_of = [&](int32_t i, double& dmax) {
         Z z;
         for (int k = 0; k < n_poses; ++k) {
             double x, y;
-            d1 = max_into(d1, project(load(P[k], loop[i]), c, f, x, y));
+            dmax = max_into(dmax, project(load(P[k], loop[i]), c, f, x, y));
             z.g[k] = x + phi * y;
             z.h[k] = y - phi * x;
-            zmin = min_into(zmin, z.g[k]), zmax = max_into(zmax, z.g[k]);
         }
+        return z;
+    };
+    const auto zpoint = [&](int32_t i) {  // ... and the loop's D1 and range of Z_g
+        const Z z = z_of(i, d1);
+        for (int k = 0; k < n_poses; ++k) zmin = min_into(zmin, z.g[k]), zmax = max_into(zmax, z.g[k]);
         return z;
     };
     // An edge's extents: the hull of its ends' Z over the poses.
@@ -169,16 +172,8 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     if (!(margin > bound)) {
         // Some turn is not proven from the coordinates: in loop order, each such one by the
         // predicates (the first not proven apart fails; the counts as if each pair was examined).
-        const auto again = [&](int32_t i) {  // vertex i's Z, the same numbers as zpoint's
-            Z z;
-            for (int k = 0; k < n_poses; ++k) {
-                double x, y;
-                project(load(P[k], loop[i]), c, f, x, y);
-                z.g[k] = x + phi * y;
-                z.h[k] = y - phi * x;
-            }
-            return z;
-        };
+        double unused = 0.0;
+        const auto again = [&](int32_t i) { return z_of(i, unused); };  // the same numbers as the pass's
         for (int32_t i = 0; i < n; ++i) {
             const int32_t i1 = i + 1 == n ? 0 : i + 1, i2 = i1 + 1 == n ? 0 : i1 + 1;
             out.edges_visited += 2;

@@ -47,6 +47,14 @@ struct BvttTask {
 // hit does not learn: on several threads, which tasks past the hit run depends on timing, and the
 // order must not (the counters of later queries depend on it). A failure reports Alg. 1's verdict
 // (its reason, kernel point and ray).
+// test(order) with node's order from `first` (Alg. 1 first without one); learns the next order.
+template <class Test>
+ContourVerdict in_first_test_order(FirstTest* first, bool learn, int32_t node, Test test) {
+    const FirstTest order = first ? first[node] : FirstTest::kStar;
+    const ContourVerdict v = test(order);
+    if (first && learn) first[node] = next_first_test(v, order);
+    return v;
+}
 // DCD: one pose.
 struct Discrete {
     static constexpr bool kContinuous = false;
@@ -54,13 +62,12 @@ struct Discrete {
     FirstTest* first = nullptr;
     bool learn = true;
     ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
-        const FirstTest order = first ? first[node] : FirstTest::kStar;
-        const ContourVerdict v = with_simplicity_fallback(
-            n, true, order, [&] { return unprojected_contour_test_at_mean(loop, n, V, l); },
-            [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); },
-            [&](const ContourVerdict& v) { return retry_kernel_point(v, loop, n, V, l); });
-        if (first && learn) first[node] = next_first_test(v, order);
-        return v;
+        return in_first_test_order(first, learn, node, [&](FirstTest order) {
+            return with_simplicity_fallback(
+                n, true, order, [&] { return unprojected_contour_test_at_mean(loop, n, V, l); },
+                [&](SimplicityScratch& s) { return simplicity_test(loop, n, V, l, s); },
+                [&](const ContourVerdict& v) { return retry_kernel_point(v, loop, n, V, l); });
+        });
     }
 };
 // CCD: Alg. 3 with the means, the simplicity fallback over the step (simple at every t) and the
@@ -72,13 +79,12 @@ struct Continuous {
     FirstTest* first = nullptr;
     bool learn = true;
     ContourVerdict contour_test(int32_t node, const int32_t* loop, int32_t n, const Vec3& l) const {
-        const FirstTest order = first ? first[node] : FirstTest::kStar;
-        const ContourVerdict v = with_simplicity_fallback(
-            n, false, order, [&] { return unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l); },
-            [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); },
-            [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, loop, n, V0, V1, l); });
-        if (first && learn) first[node] = next_first_test(v, order);
-        return v;
+        return in_first_test_order(first, learn, node, [&](FirstTest order) {
+            return with_simplicity_fallback(
+                n, false, order, [&] { return unprojected_contour_test_ccd_at_mean(loop, n, V0, V1, l); },
+                [&](SimplicityScratch& s) { return simplicity_test_ccd(loop, n, V0, V1, l, s); },
+                [&](const ContourVerdict& v) { return retry_kernel_point_ccd(v, loop, n, V0, V1, l); });
+        });
     }
 };
 // Baselines (Sec. 6.1). "sct": the projected star-contour test of [SPO10] (DCD only).
