@@ -155,12 +155,17 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     // (b lies beyond a in every pose: dir +1), else a's least minus b's largest (dir -1 when
     // positive, 0 when neither).
     const auto step_of = [](const Z& a, const Z& b, double& step) {
+        if constexpr (n_poses == 1) {  // a's least minus b's largest is -(b - a), exactly
+            const double up = b.g[0] - a.g[0];
+            step = std::fabs(up);
+            return static_cast<int32_t>(up > 0.0) - static_cast<int32_t>(up < 0.0);
+        }
         double amin = a.g[0], amax = a.g[0], bmin = b.g[0], bmax = b.g[0];
         for (int k = 1; k < n_poses; ++k) {
             amin = min_into(amin, a.g[k]), amax = max_into(amax, a.g[k]);
             bmin = min_into(bmin, b.g[k]), bmax = max_into(bmax, b.g[k]);
         }
-        const double up = bmin - amax, down = amin - bmax;  // one pose: down = -up, exactly
+        const double up = bmin - amax, down = amin - bmax;
         step = up > 0.0 ? up : down;
         return static_cast<int32_t>(up > 0.0) - static_cast<int32_t>(down > 0.0);
     };
