@@ -200,6 +200,21 @@ def _frame(l):
     return u, w, _fdot(u, u), k
 
 
+def _frame_scale(l, u, w):
+    """projection_frame's scale: the largest |u_j|, |w~_j| and max|l_j| max|u_j|."""
+    mx = lambda a: max(abs(a[0]), abs(a[1]), abs(a[2]))  # noqa: E731
+    return max(mx(u), mx(w), mx(l) * mx(u))
+
+
+def _fproject(p, c, u, w):
+    """kernel_point.hpp project(): d = fl(p - c), X = fl(d . u), Y = fl(d . w~), |d|_1."""
+    d = _fsub(p, c)
+    return _fdot(d, u), _fdot(d, w), abs(d[0]) + abs(d[1]) + abs(d[2])
+
+
+SWEEP_PHI = 0.6180339887498949  # contour_test_simple.hpp's phi: Z_g = fl(X + phi Y), Z_h = fl(Y - phi X)
+
+
 def _predicate_domain(o):
     """in_predicate_domain (kernel_point.hpp): a computed kernel point's coordinates must be 0 or
     of magnitude in [2^-128, 2^128]; tiny ones become 0 (any o is valid), a huge or non-finite one

@@ -440,7 +440,7 @@ def test_turns_within_rounding_are_never_proven():
         assert not CT.simplicity_test_ccd(ids, P0, P1, l)["passed"]
 
 
-_PHI, _EPS = 0.6180339887498949, 1.1102230246251565e-16
+_EPS = 1.1102230246251565e-16  # kEps
 
 
 def _swept_pairs(poses, l):
@@ -449,21 +449,19 @@ def _swept_pairs(poses, l):
     operation (its Z_g, Z_h per vertex and pose, the hull of an edge's ends over the poses, D1 and
     the gap; IEEE doubles, no FMA, as the core is built), then the rule applied to every pair: a
     model of which pairs the runs' walk reaches, without the runs."""
-    u, w, _, _ = ex._frame(tuple(float(x) for x in l))
-    mx = lambda a: max(abs(a[0]), abs(a[1]), abs(a[2]))  # noqa: E731
-    scale = max(max(mx(u), mx(w)), mx(l) * mx(u))
+    l = tuple(float(x) for x in l)
+    u, w, _, _ = ex._frame(l)
     c = tuple(float(x) for x in poses[0][0])
-    n, d1 = len(poses[0]), 0.0
+    n, d1, phi = len(poses[0]), 0.0, ex.SWEEP_PHI
     Z = []  # per vertex: (g, h) per pose
     for i in range(n):
         z = []
         for P in poses:
-            d = tuple(float(P[i][k]) - c[k] for k in range(3))
-            x, y = ex._fdot(d, u), ex._fdot(d, w)
-            d1 = max(d1, abs(d[0]) + abs(d[1]) + abs(d[2]))
-            z.append((x + _PHI * y, y - _PHI * x))
+            x, y, n1 = ex._fproject(tuple(float(x) for x in P[i]), c, u, w)
+            d1 = max(d1, n1)
+            z.append((x + phi * y, y - phi * x))
         Z.append(z)
-    gap = 64.0 * _EPS * d1 * scale
+    gap = 64.0 * _EPS * d1 * ex._frame_scale(l, u, w)
     ext = []
     for i in range(n):
         zs = Z[i] + Z[(i + 1) % n]

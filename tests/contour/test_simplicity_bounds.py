@@ -15,18 +15,7 @@ import pytest
 import exact_twin as ex
 
 EPS = Fr(1, 2**53)
-PHI = 0.6180339887498949  # contour_test_simple.hpp's phi (its exact double value below)
-
-
-def _project(p, c, u, w):
-    """kernel_point.hpp project(): d = fl(p - c), X = fl(d . u), Y = fl(d . w~), |d|_1."""
-    d = ex._fsub(p, c)
-    return ex._fdot(d, u), ex._fdot(d, w), abs(d[0]) + abs(d[1]) + abs(d[2])
-
-
-def _scale(l, u, w):
-    mx = lambda a: max(abs(a[0]), abs(a[1]), abs(a[2]))  # noqa: E731
-    return max(mx(u), mx(w), mx(l) * mx(u))
+PHI = ex.SWEEP_PHI
 
 
 def _case(rng, k):
@@ -51,13 +40,13 @@ def _coords(P, l):
     phi = Fr(PHI)
     rounded, exact, d1 = [], [], 0.0
     for p in P:
-        X, Y, n1 = _project(p, c, u, w)
+        X, Y, n1 = ex._fproject(p, c, u, w)
         d1 = max(d1, n1)
         rounded.append((X + PHI * Y, Y - PHI * X, X, Y))
         dp = ex.sub(ex.fr3(p), ex.fr3(c))
         Xs, Ys = ex.dot(dp, uf), ex.dot(dp, w_exact)
         exact.append((Xs + phi * Ys, Ys - phi * Xs, Xs, Ys))
-    return rounded, exact, Fr(d1) * Fr(_scale(l, u, w))
+    return rounded, exact, Fr(d1) * Fr(ex._frame_scale(l, u, w))
 
 
 def test_projection_and_sweep_coordinates_within_their_bounds():

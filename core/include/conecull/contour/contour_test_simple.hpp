@@ -129,7 +129,7 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     const size_t nn = static_cast<size_t>(n);
     using Z = ZPoint<n_poses>;
     double d1 = 0.0;
-    // Vertex i's Z in every pose; `dmax` keeps the largest |p - c|_1.
+    // Vertex i's Z in every pose; `dmax` keeps the largest |p - c|_1 (the pass: the loop's D1).
     const auto z_of = [&](int32_t i, double& dmax) {
         Z z;
         for (int k = 0; k < n_poses; ++k) {
@@ -140,7 +140,6 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
         }
         return z;
     };
-    const auto zpoint = [&](int32_t i) { return z_of(i, d1); };  // ... and the loop's D1
     // An edge's extents: the hull of its ends' Z over the poses.
     const auto extent = [](const Z& a, const Z& b) {
         SweepEdge e{a.g[0], a.g[0], a.h[0], a.h[0]};
@@ -209,12 +208,12 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     // extent separates them: turn_margin settles most of them, the predicates the rest), kept as
     // the least margin, compared with the bound once D1 is known (the projections' bound needs all
     // of them).
-    const Z z0 = zpoint(0), z1 = zpoint(1);
+    const Z z0 = z_of(0, d1), z1 = z_of(1, d1);
     add_edge(0, z0, z1);
     double margin = std::numeric_limits<double>::infinity();
     Z za = z0, zb = z1;
     for (int32_t i = 2; i < n; ++i) {
-        const Z zc = zpoint(i);
+        const Z zc = z_of(i, d1);
         margin = min_into(margin, turn_margin(za, zb, zc));  // at vertex i - 1
         add_edge(i - 1, zb, zc);
         za = zb, zb = zc;
