@@ -1,6 +1,7 @@
 // Elementary test bindings (core/include/conecull/elementary/), vectorised over rows.
 #include "common.hpp"
 #include "conecull/elementary/triangle_triangle.hpp"
+#include "conecull/elementary/triangles_apart.hpp"
 
 namespace conecull::bind {
 
@@ -29,6 +30,42 @@ void bind_elementary(py::module_& m) {
         },
         py::arg("fp"), py::arg("P"), py::arg("fq"), py::arg("Q"),
         "Exact triangle pair test: face ids fp, fq (k, 3) decide shared vertices; positions P, Q (k, 3, 3).");
+    m.def(
+        "triangles_apart",
+        [](const I32Array& faces, const F64Array& V, const I32Array& pairs, bool portable) {
+            require_shape(faces, "faces", -1, 3);
+            require_points(V, "V", -1, 3);
+            require_shape(pairs, "pairs", -1, 2);
+            const int32_t* f = faces.data();
+            for (py::ssize_t i = 0; i < faces.size(); ++i)
+                if (f[i] < 0 || f[i] >= V.shape(0))
+                    throw py::value_error("faces: vertex index " + std::to_string(f[i]) + " outside [0, " +
+                                          std::to_string(V.shape(0)) + ")");
+            const int32_t* q = pairs.data();
+            for (py::ssize_t i = 0; i < pairs.size(); ++i)
+                if (q[i] < 0 || q[i] >= faces.shape(0))
+                    throw py::value_error("pairs: face index " + std::to_string(q[i]) + " outside [0, " +
+                                          std::to_string(faces.shape(0)) + ")");
+            const py::ssize_t k = pairs.shape(0);
+            py::array_t<bool> out(k);
+            // Blocks of four as the DCD loop runs them; the last block padded with its first pair.
+            for (py::ssize_t b = 0; b < k; b += 4) {
+                FacePair block[4];
+                for (int l = 0; l < 4; ++l) {
+                    const py::ssize_t i = b + l < k ? b + l : b;
+                    block[l] = {q[2 * i], q[2 * i + 1]};
+                }
+                const uint32_t bits = portable ? triangles_apart4_portable(V.data(), f, block)
+                                               : triangles_apart4(V.data(), f, block);
+                for (int l = 0; l < 4 && b + l < k; ++l) out.mutable_data()[b + l] = (bits >> l & 1) != 0;
+            }
+            return out;
+        },
+        py::arg("faces"), py::arg("V"), py::arg("pairs"), py::arg("portable") = false,
+        "The DCD loop's certified plane rejection (triangles_apart4), four pairs at a time: True where the pair "
+        "(rows of faces) is proven not to collide. portable=True: the path without AVX2.");
+    m.def("triangles_apart_vectorised", &triangles_apart4_vectorised,
+          "Whether triangles_apart runs its AVX2 path on this CPU.");
 }
 
 }  // namespace conecull::bind

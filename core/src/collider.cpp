@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "conecull/elementary/triangle_triangle.hpp"
+#include "conecull/elementary/triangles_apart.hpp"
 #include "conecull/parallel.hpp"
 #include "conecull/trace/null_tracer.hpp"
 
@@ -163,6 +164,38 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             __builtin_prefetch(V + 3 * static_cast<size_t>(fq[i]));
         }
     };
+    // The candidates p[0, n) in order, four at a time: triangles_apart4's certified plane
+    // rejection settles most (85-88% on the real steps; each costs a third of a full test), the
+    // others go to the exact test. on_hit(k) for the k-th if it collides; true stops the scan
+    // there: returns k, or n at the end. A traced query gets each pair's event in order.
+    const auto scan = [&](const TrianglePair* p, int64_t n, const auto& on_hit) -> int64_t {
+        int64_t k = 0;
+        for (; k + 4 <= n; k += 4) {
+            for (int l = 0; l < 4; ++l) {
+                if (k + 16 + l < n) ahead(p[k + 16 + l], 16);
+                if (k + 8 + l < n) ahead(p[k + 8 + l], 8);
+            }
+            const uint32_t apart = triangles_apart4(V, F, p + k);
+            if constexpr (kTraceHooks<Tracer>) {
+                for (int l = 0; l < 4; ++l) {
+                    if (apart >> l & 1) {
+                        tracer.on_elementary(p[k + l].first, p[k + l].second, false);
+                    } else if (collide(p[k + l]) && on_hit(k + l)) {
+                        return k + l;
+                    }
+                }
+            } else {
+                for (uint32_t rest = ~apart & 15u; rest != 0; rest &= rest - 1) {  // in lane order
+                    const int l = __builtin_ctz(rest);
+                    if (collide(p[k + l]) && on_hit(k + l)) return k + l;
+                }
+            }
+        }
+        for (; k < n; ++k)
+            if (collide(p[k]) && on_hit(k)) return k;
+        return n;
+    };
+    const auto stop = [](int64_t) { return true; };
     if constexpr (!kTraceHooks<Tracer>) {
         if (stop_at_first && (method_ == Method::kAabb || method_ == Method::kNc)) {
             // Without a front to keep complete, the traversal itself stops at the first hit in
@@ -179,9 +212,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
                                                                                 s, out);
                 };
                 const auto find_hit = [&](const std::vector<TrianglePair>& c, NoTaskOut&) {
-                    CandidateList list;
-                    list.set(c);
-                    return list.find_in_range(0, list.size(), collide, ahead);
+                    return scan(c.data(), static_cast<int64_t>(c.size()), stop);
                 };
                 std::vector<NoTaskOut> outs;
                 return self_collide_until_first_hit(bvh_, query_threads_, make, find_hit, outs, st, parallel_);
@@ -212,13 +243,13 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
         std::vector<std::pair<int64_t, TrianglePair>> hit_of(ch.count, {-1, {}});
         parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
             if (first.skip(k)) return;
-            TrianglePair hit{};
-            const int64_t i = candidates.find_in_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
-                hit = c;
-                return collide(c);
-            }, ahead);
+            const int64_t i = candidates.scan_runs(ch.begin(k), ch.end(k), [&](const TrianglePair* p, int64_t n) {
+                const int64_t j = scan(p, n, stop);
+                if (j < n) hit_of[k].second = p[j];
+                return j;
+            });
             if (i == ch.end(k)) return;
-            hit_of[k] = {i, hit};
+            hit_of[k].first = i;
             first.found(k);
         });
         const int64_t k = first.get();
@@ -230,9 +261,12 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     }
     std::vector<Padded<std::vector<TrianglePair>>> hits(ch.count);
     parallel_chunks(ch.count, query_threads_, [&](int64_t k, int) {
-        candidates.for_range(ch.begin(k), ch.end(k), [&](const TrianglePair& c) {
-            if (collide(c)) hits[k].value.push_back(c);
-        }, ahead);
+        candidates.scan_runs(ch.begin(k), ch.end(k), [&](const TrianglePair* p, int64_t n) {
+            return scan(p, n, [&](int64_t j) {
+                hits[k].value.push_back(p[j]);
+                return false;
+            });
+        });
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
     st.elementary_tests = candidates.size();

@@ -75,6 +75,23 @@ struct CandidateList {
         }, ahead);
         return found;
     }
+    // scan(p, n) over the candidates [b, e) as contiguous runs p[0, n), in order, until one
+    // returns k < n (it stopped at its k-th candidate): the index of that candidate, or e.
+    template <class Scan>
+    int64_t scan_runs(int64_t b, int64_t e, const Scan& scan) const {
+        if (whole) {
+            const int64_t k = scan(whole->data() + b, e - b);
+            return k < e - b ? b + k : e;
+        }
+        size_t part = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), b) - offset.begin()) - 1;
+        for (; b < e; ++part) {
+            const int64_t hi = std::min(e, offset[part + 1]);
+            const int64_t k = scan((*parts)[part].value.data() + (b - offset[part]), hi - b);
+            if (k < hi - b) return b + k;
+            b = hi;
+        }
+        return e;
+    }
     void set(const std::vector<TrianglePair>& all) {
         whole = &all;
         parts = nullptr;
