@@ -1,6 +1,11 @@
 #include "conecull/elementary/triangles_apart.hpp"
 
+#if defined(__x86_64__) || defined(__i386__)
+#define CONECULL_HAS_AVX2_PATH 1
 #include <immintrin.h>
+#else
+#define CONECULL_HAS_AVX2_PATH 0  // other CPUs: the portable path only
+#endif
 
 #include "conecull/predicates/orient.hpp"
 #include "conecull/vec3.hpp"
@@ -23,6 +28,7 @@ bool one_side_excused(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3 d[
     return pos || neg;
 }
 
+#if CONECULL_HAS_AVX2_PATH
 // ---- AVX2: the four pairs side by side, one pair per 64-bit lane ---------------------------
 
 struct Lanes3 {
@@ -118,6 +124,8 @@ struct Lanes3 {
     return static_cast<uint32_t>(_mm256_movemask_pd(apart));
 }
 
+#endif  // CONECULL_HAS_AVX2_PATH
+
 }  // namespace
 
 uint32_t triangles_apart4_portable(const double* V, const int32_t* F, const FacePair* pairs) {
@@ -139,12 +147,19 @@ uint32_t triangles_apart4_portable(const double* V, const int32_t* F, const Face
 }
 
 bool triangles_apart4_vectorised() {
+#if CONECULL_HAS_AVX2_PATH
     static const bool avx2 = __builtin_cpu_supports("avx2");
     return avx2;
+#else
+    return false;
+#endif
 }
 
 uint32_t triangles_apart4(const double* V, const int32_t* F, const FacePair* pairs) {
-    return triangles_apart4_vectorised() ? triangles_apart4_avx2(V, F, pairs) : triangles_apart4_portable(V, F, pairs);
+#if CONECULL_HAS_AVX2_PATH
+    if (triangles_apart4_vectorised()) return triangles_apart4_avx2(V, F, pairs);
+#endif
+    return triangles_apart4_portable(V, F, pairs);
 }
 
 }  // namespace conecull
