@@ -61,6 +61,16 @@ inline void require_shape(const py::array& a, const char* name, py::ssize_t rows
     }
 }
 
+// Raises ValueError naming the argument unless every entry of `a` lies in [0, n); `what` says
+// what an entry is ("vertex index").
+inline void require_indices(const I32Array& a, const char* name, const char* what, int64_t n) {
+    const int32_t* v = a.data();
+    for (py::ssize_t i = 0; i < a.size(); ++i)
+        if (v[i] < 0 || v[i] >= n)
+            throw py::value_error(std::string(name) + ": " + what + " " + std::to_string(v[i]) + " outside [0, " +
+                                  std::to_string(n) + ")");
+}
+
 // A double as Python's repr() writes it (nan, inf, shortest round trip), for messages.
 inline std::string repr(double x) {
     if (std::isnan(x)) return "nan";

@@ -36,16 +36,10 @@ void bind_elementary(py::module_& m) {
             require_shape(faces, "faces", -1, 3);
             require_points(V, "V", -1, 3);
             require_shape(pairs, "pairs", -1, 2);
+            require_indices(faces, "faces", "vertex index", V.shape(0));
+            require_indices(pairs, "pairs", "face index", faces.shape(0));
             const int32_t* f = faces.data();
-            for (py::ssize_t i = 0; i < faces.size(); ++i)
-                if (f[i] < 0 || f[i] >= V.shape(0))
-                    throw py::value_error("faces: vertex index " + std::to_string(f[i]) + " outside [0, " +
-                                          std::to_string(V.shape(0)) + ")");
             const int32_t* q = pairs.data();
-            for (py::ssize_t i = 0; i < pairs.size(); ++i)
-                if (q[i] < 0 || q[i] >= faces.shape(0))
-                    throw py::value_error("pairs: face index " + std::to_string(q[i]) + " outside [0, " +
-                                          std::to_string(faces.shape(0)) + ")");
             const py::ssize_t k = pairs.shape(0);
             py::array_t<bool> out(k);
             // Blocks of four as the DCD loop runs them; the last block padded with its first pair.

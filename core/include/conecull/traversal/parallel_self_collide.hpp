@@ -45,35 +45,23 @@ struct CandidateList {
     // that the caller can prefetch what that pair's test will load.
     template <class Fn, class Ahead>
     void for_range(int64_t b, int64_t e, const Fn& fn, const Ahead& ahead) const {
-        const auto run = [&](const TrianglePair* p, int64_t i, int64_t end) {
-            for (; i < end; ++i) {
-                if (i + 16 < end) ahead(p[i + 16], 16);
-                if (i + 8 < end) ahead(p[i + 8], 8);
-                fn(p[i]);
-            }
-        };
-        if (whole) {
-            run(whole->data(), b, e);
-            return;
-        }
-        size_t k = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), b) - offset.begin()) - 1;
-        for (; b < e; ++k) {
-            const std::vector<TrianglePair>& p = (*parts)[k].value;
-            const int64_t hi = std::min(e, offset[k + 1]);
-            run(p.data(), b - offset[k], hi - offset[k]);
-            b = hi;
-        }
+        find_in_range(b, e, [&](const TrianglePair& c) {
+            fn(c);
+            return false;
+        }, ahead);
     }
     // fn(pair) for the candidates [b, e) in order until it returns true: the index of that
     // candidate, or e. ahead as for for_range.
     template <class Fn, class Ahead>
     int64_t find_in_range(int64_t b, int64_t e, const Fn& fn, const Ahead& ahead) const {
-        int64_t i = b, found = e;
-        for_range(b, e, [&](const TrianglePair& c) {
-            if (found == e && fn(c)) found = i;
-            ++i;
-        }, ahead);
-        return found;
+        return scan_runs(b, e, [&](const TrianglePair* p, int64_t n) {
+            for (int64_t i = 0; i < n; ++i) {
+                if (i + 16 < n) ahead(p[i + 16], 16);
+                if (i + 8 < n) ahead(p[i + 8], 8);
+                if (fn(p[i])) return i;
+            }
+            return n;
+        });
     }
     // scan(p, n) over the candidates [b, e) as contiguous runs p[0, n), in order, until one
     // returns k < n (it stopped at its k-th candidate): the index of that candidate, or e.
