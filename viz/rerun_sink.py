@@ -127,6 +127,7 @@ class RerunRecorder:
             rec.log("/stats/front/entries", rr.Scalars(s["front_entries"]))
             rec.log("/stats/front/added", rr.Scalars(s["front_added"]))
             rec.log("/stats/front/removed", rr.Scalars(s["front_removed"]))
+            rec.log("/stats/front/rested", rr.Scalars(s["front_rested"]))  # nodes whose front churned
             load = col.front_load("ccd" if hasattr(res, "vf") else "dcd")
             rec.log("/front/mesh", rr.Mesh3D(vertex_positions=V[self.faces].reshape(-1, 3),
                                              vertex_colors=np.repeat(L.front_colors(load), 3, axis=0)))

@@ -167,7 +167,8 @@ class ViewerApp:
                     f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
                     f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
                     f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**"
-                    + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']})"
+                    + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']}, "
+                       f"{s['front_rested']} nodes resting)"
                        if self.method.value.endswith("+front") else "")
                     + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
                        and not self.method.value.endswith("+front") else ""))

@@ -56,6 +56,7 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     d["front_bytes"] = s.front_bytes;
     d["front_added"] = s.front_added;
     d["front_removed"] = s.front_removed;
+    d["front_rested"] = s.front_rested;
     d["elementary_tests"] = s.elementary_tests;
     d["colliding_pairs"] = s.colliding_pairs;
     d["seconds_refit"] = s.seconds_refit;
@@ -138,8 +139,12 @@ py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
             ab.push_back(e.b);
         }
     }
+    py::array_t<uint8_t> resting(n);
+    uint8_t* r = resting.mutable_data();
+    for (py::ssize_t x = 0; x < n; ++x) r[x] = static_cast<size_t>(x) < f.rest.size() ? f.rest[x] : 0;
     py::dict d;
     d["count"] = count;
+    d["resting"] = resting;
     d["owner"] = to_numpy(owner);
     d["entries"] = to_numpy(ab, 2);
     return d;

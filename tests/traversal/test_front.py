@@ -107,7 +107,8 @@ def test_large_motion_permuted_frames_and_unrelated_poses():
         expect = expect_noisy if name == "noisy" else oracle(name, k)
         res = check_frame(cols, V, expect, f"pose {i} ({name} {k})")
         if name == "noisy":
-            assert all(res[m].stats["front_added"] > 1000 for m in FRONT)
+            # far from every front: each grows a lot, or rests where it churned (Collide from the top)
+            assert all(res[m].stats["front_added"] > 1000 or res[m].stats["front_rested"] > 0 for m in FRONT), i
 
 
 @pytest.mark.parametrize("name", ["folding", "crumpling"])
@@ -139,6 +140,7 @@ def test_front_stats_consistent_and_front_reused():
             s = res[m].stats
             assert s["front_entries"] > 0 and s["front_bytes"] == 8 * s["front_entries"]
             assert s["front_added"] >= 0 and s["front_removed"] >= 0
+            assert s["front_rested"] == 0, (k, m)  # smooth motion: no sub-segment churns
             if k == 0:
                 assert s["front_added"] == s["front_entries"] and s["front_removed"] == 0
             else:
@@ -218,6 +220,33 @@ def check_front_is_a_cut(col, kind, stats):
         load[bvh["order"][begin[a] : end[a]]] += 1
         load[bvh["order"][begin[b] : end[b]]] += 1
     assert np.array_equal(col.front_load(kind), load)
+
+
+def test_churning_front_rests_then_tracks_again():
+    """Two far poses in turn (a step's two ends queried alternately): sub-segments whose update
+    costs more box tests than Collide from the top rest (BvttFront::churned): they keep no entries
+    while resting, the fronts stay cuts and every result stays exact. Once the motion stops,
+    every resting node is tracked again and the front settles (nothing added, removed or resting)."""
+    F, frames = sequence("crumpling")
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS if m in FRONT or m in FRONT.values()}
+    rested = {m: 0 for m in FRONT}
+    for q in range(12):
+        k = 0 if q % 2 == 0 else len(frames) - 1
+        res = check_frame(cols, frames[k], oracle("crumpling", k), f"query {q} (frame {k})")
+        for m in FRONT:
+            rested[m] += res[m].stats["front_rested"]
+            fr = cols[m].front_arrays()
+            assert not np.any(fr["count"][fr["resting"] > 0]), f"query {q} {m}: a resting node keeps entries"
+            check_front_is_a_cut(cols[m], "dcd", res[m].stats)
+    assert all(r > 0 for r in rested.values()), rested
+    for q in range(20):  # longer than the longest rest (16 queries)
+        res = check_frame(cols, frames[0], oracle("crumpling", 0), f"still, query {q}")
+    for m in FRONT:
+        s = res[m].stats
+        assert s["front_rested"] == 0 and s["front_added"] == 0 and s["front_removed"] == 0, (m, s)
+        assert not cols[m].front_arrays()["resting"].any()
+        assert s["bv_tests"] <= res[FRONT[m]].stats["bv_tests"], m
 
 
 @pytest.mark.parametrize("method", ["aabb+front", "nc+front"])

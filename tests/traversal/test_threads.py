@@ -35,14 +35,15 @@ def test_dcd_identical_for_any_thread_count(scene, method):
 @pytest.mark.parametrize("method", ["aabb+front", "nc+front"])
 def test_front_identical_for_any_thread_count(method):
     """The parallel traversal builds the front methods' BVTT front too (per task, joined in task
-    order): every Front_X, entry for entry, is the one-thread front's, after DCD and CCD queries."""
+    order): every Front_X, entry for entry, is the one-thread front's, and so is which nodes rest,
+    after DCD and CCD queries."""
     F, frames = sequences()["folding_sheet"]
     mesh = conecull.Mesh(F)
 
     def fronts(threads):
         col = conecull.SelfCollider(mesh, method=method, threads=threads)
         out = []
-        for V in frames:
+        for V in list(frames) + [frames[0], frames[-1]] * 3:  # then far poses in turn: fronts churn and rest
             col.dcd(V)
             out.append(col.front_arrays("dcd"))
         col.ccd(frames[-2], frames[-1])
@@ -50,9 +51,10 @@ def test_front_identical_for_any_thread_count(method):
 
     ref = fronts(1)
     assert all(len(f["entries"]) > 0 for f in ref)
+    assert any(f["resting"].any() for f in ref)
     for threads in THREADS[1:]:
         for k, (a, b) in enumerate(zip(ref, fronts(threads))):
-            for key in ("count", "owner", "entries"):
+            for key in ("count", "owner", "entries", "resting"):
                 assert np.array_equal(a[key], b[key]), f"{method} threads={threads} query {k}: front {key} differs"
 
 

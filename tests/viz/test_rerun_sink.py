@@ -60,7 +60,7 @@ def test_front_growth_is_recorded(tmp_path):
     F, frames = load_sequence("fold")
     path = str(tmp_path / "front.rrd")
     stats = record(path, F, frames[-6:], method="nc+front", recording_id="test-front")  # folded: a front
-    for key in ("entries", "added", "removed"):
+    for key in ("entries", "added", "removed", "rested"):
         rows = rows_by_frame(path, f"/stats/front/{key}", "Scalars:scalars")
         assert [v[0] for _, v in sorted(rows.items())] == [s[f"front_{key}"] for s in stats]
     assert max(s["front_added"] for s in stats) > 0 and min(s["front_entries"] for s in stats) > 0

@@ -167,7 +167,8 @@ class DcdResult:
     """(k, 2) int64 colliding triangle ids, i < j, rows sorted lexicographically."""
     stats: dict = field(default_factory=dict)
     """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs; front_entries,
-    front_bytes, front_added, front_removed for the front methods, else 0) and seconds per stage."""
+    front_bytes, front_added, front_removed, front_rested for the front methods, else 0; front_rested:
+    nodes whose front churned and that ran Collide from the top instead) and seconds per stage."""
     trace: Trace | None = None
     """The query's events (conecull.trace schema) when queried with trace=True."""
     collider: weakref.ref | None = field(default=None, repr=False, compare=False)
@@ -303,7 +304,9 @@ class SelfCollider:
     def front_arrays(self, kind: str = "dcd") -> dict:
         """The BVTT front (Alg. 4) the last query of `kind` ("dcd" or "ccd") left, front methods only:
         "entries" (m, 2) BVTT nodes (a, b), "owner" (m,) the internal node X whose sub-segment
-        Front_X holds each entry, "count" (n_nodes,) the size of Front_X (0: no front kept there)."""
+        Front_X holds each entry, "count" (n_nodes,) the size of Front_X (0: no front kept there),
+        "resting" (n_nodes,) how many more queries X runs Collide from the top, untracked, because
+        its front churned (0: tracked when visited)."""
         if not self.method.endswith("+front"):
             raise ValueError(f"method: {self.method!r} keeps no BVTT front; front_arrays needs 'aabb+front' or 'nc+front'")
         if kind not in ("dcd", "ccd"):

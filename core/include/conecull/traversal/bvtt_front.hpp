@@ -44,6 +44,31 @@ struct BvttFront {
     std::vector<uint64_t> tracked;
     uint64_t query = 0;  // queries answered with this front (so 0: never tracked)
 
+    // Churn. Any cut gives Collide's candidates, but one far from the new pose costs more to
+    // update than Collide from the top would (a real step's two end poses queried in turn: 82%
+    // of armadillo's entries new each query). Then X rests: Collide(X->left, X->right) runs from
+    // the top, as in Alg. 2, with nothing recorded, for 1, 2, 4, 8, then 16 queries after
+    // successive churning updates (back to 1 after one that pays); then it is rebuilt from the
+    // top and tracked again. Each X is touched by its own FrontTracking task only, so the
+    // policy is the same for any thread count.
+    std::vector<uint8_t> rest;     // queries X has left to rest
+    std::vector<uint8_t> backoff;  // log2 of X's next rest
+    static constexpr uint8_t kMaxBackoff = 4;
+
+    // An update of Front_X that did `spent` box tests and ended with `kept` entries: true if it
+    // churned, and X rests from the next query. Collide from the top visits a full binary tree
+    // of BVTT nodes whose leaves form the highest cut, which every cut refines, so it does at
+    // most 2 kept - 1 tests: more than that and the front cost more than it saved.
+    bool churned(int32_t x, int64_t spent, int64_t kept) {
+        if (spent <= 2 * kept - 1) {
+            backoff[x] = 0;
+            return false;
+        }
+        rest[x] = static_cast<uint8_t>(1u << backoff[x]);
+        if (backoff[x] < kMaxBackoff) ++backoff[x];
+        return true;
+    }
+
     // Being built by the current query: the new sub-segments. The parallel traversal builds one
     // such part per task (`nodes`: the X whose begin[X] is relative to the part) and
     // concatenates them here.
@@ -54,6 +79,8 @@ struct BvttFront {
         begin.assign(bvh.nodes.size(), 0);
         count.assign(bvh.nodes.size(), 0);
         tracked.assign(bvh.nodes.size(), 0);
+        rest.assign(bvh.nodes.size(), 0);
+        backoff.assign(bvh.nodes.size(), 0);
         query = 0;
     }
 

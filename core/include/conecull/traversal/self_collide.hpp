@@ -291,14 +291,23 @@ class SelfCollideTraversal {
     // query left (see bvtt_front.hpp for why any cut gives exactly Collide's candidates). The
     // front grows where an entry's boxes now overlap (it is descended as Collide would) and
     // shrinks where two sibling entries and their parent are apart (they merge into the parent).
+    // Where the front churns, N rests instead (BvttFront::churned): Collide(L, R) from the top,
+    // nothing kept, so the front never costs much more than Alg. 2.
     void front_tracking(int32_t n) {
         BvttFront& f = *front_;
         FrontPart& next = *part_;
         const size_t start = next.entries.size();
         mergeable_run_ = 0;  // a new sub-segment: nothing before it may merge
+        if (f.rest[n] > 0) {  // resting after churn (bvtt_front.hpp): Alg. 2 line 13, unrecorded
+            --f.rest[n];
+            ++stats_.front_rested;
+            collide<false>(Bvh::left(n), bvh_[n].right);
+            return;
+        }
         if (!f.is_tracked(n)) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
+            const int64_t tests_before = stats_.bv_tests;
             const FrontEntry* seg = f.entries.data() + f.begin[n];
             const int32_t count = f.count[n];
             for (int32_t k = 0; k < count; ++k) {
@@ -325,6 +334,10 @@ class SelfCollideTraversal {
                 } else {
                     descend<true>(e.a, e.b);  // the front grows below e
                 }
+            }
+            if (f.churned(n, stats_.bv_tests - tests_before, static_cast<int64_t>(next.entries.size() - start))) {
+                next.entries.resize(start);  // X rests from the next query: nothing kept
+                return;
             }
         }
         f.begin[n] = static_cast<int64_t>(start);  // a task's: rebased when the parts are joined

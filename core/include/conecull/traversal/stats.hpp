@@ -23,6 +23,7 @@ struct DcdStats {
     int64_t front_bytes = 0;         // their size: front_entries * sizeof(FrontEntry)
     int64_t front_added = 0;         // entries made this query (descents, merges, rebuilt sub-segments)
     int64_t front_removed = 0;       // entries of the previous front not kept (descended, merged, culled)
+    int64_t front_rested = 0;        // sub-segments not tracked this query: resting after churn
     int64_t elementary_tests = 0;
     int64_t colliding_pairs = 0;
     double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;
@@ -42,6 +43,7 @@ struct DcdStats {
         for (size_t r = 0; r < contour_reasons.size(); ++r) contour_reasons[r] += s.contour_reasons[r];
         contour_edges += s.contour_edges;
         front_added += s.front_added;
+        front_rested += s.front_rested;
         seconds_contour += s.seconds_contour;  // time: summed over the threads
     }
 };
