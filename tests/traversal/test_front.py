@@ -229,7 +229,7 @@ def test_churning_front_rests_then_tracks_again():
     every resting node is tracked again and the front settles (nothing added, removed or resting)."""
     F, frames = sequence("crumpling")
     mesh = conecull.Mesh(F)
-    cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS if m in FRONT or m in FRONT.values()}
+    cols = {m: conecull.SelfCollider(mesh, method=m) for m in (*FRONT, *FRONT.values())}
     rested = {m: 0 for m in FRONT}
     for q in range(12):
         k = 0 if q % 2 == 0 else len(frames) - 1

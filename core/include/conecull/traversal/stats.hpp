@@ -22,7 +22,7 @@ struct DcdStats {
     int64_t front_entries = 0;       // entries kept for the next query (over all sub-segments)
     int64_t front_bytes = 0;         // their size: front_entries * sizeof(FrontEntry)
     int64_t front_added = 0;         // entries made this query (descents, merges, rebuilt sub-segments)
-    int64_t front_removed = 0;       // entries of the previous front not kept (descended, merged, culled)
+    int64_t front_removed = 0;       // entries of the previous front not kept (descended, merged, culled, churned)
     int64_t front_rested = 0;        // sub-segments not tracked this query: resting after churn
     int64_t elementary_tests = 0;
     int64_t colliding_pairs = 0;
