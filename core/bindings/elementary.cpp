@@ -42,6 +42,7 @@ void bind_elementary(py::module_& m) {
             const int32_t* q = pairs.data();
             const py::ssize_t k = pairs.shape(0);
             py::array_t<bool> out(k);
+            bool* o = out.mutable_data();
             // Blocks of four as the DCD loop runs them; the last block padded with its first pair.
             for (py::ssize_t b = 0; b < k; b += 4) {
                 FacePair block[4];
@@ -51,7 +52,7 @@ void bind_elementary(py::module_& m) {
                 }
                 const uint32_t bits = portable ? triangles_apart4_portable(V.data(), f, block)
                                                : triangles_apart4(V.data(), f, block);
-                for (int l = 0; l < 4 && b + l < k; ++l) out.mutable_data()[b + l] = (bits >> l & 1) != 0;
+                for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) != 0;
             }
             return out;
         },

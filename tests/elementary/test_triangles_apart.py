@@ -16,6 +16,7 @@ from exact_twin import orient3d
 from oracle import triangle_pair_collides
 from test_triangle_triangle import _rotation, lattice, near, pair
 
+
 def exact_rule(fp, P, fq, Q) -> bool:
     """Fraction twin: the corners of Q not in P strictly on one side of plane(P), or the reverse."""
     def one_side(A, B, b_shared):
