@@ -105,3 +105,36 @@ def test_optional_points_and_cones():
     C.merge_cones(axis_tiny, cb, sb, axis, cb, sb)
     with pytest.raises(ValueError, match=r"^sin_q: non-finite value nan at index 0"):
         C.merge_cones(axis, cb, sb, axis, cb, np.array([np.nan]))
+
+
+def _in_range(x: float) -> bool:
+    """The rule, on the value: 0, or finite with magnitude in [2^-128, 2^128]."""
+    return x == 0.0 or (np.isfinite(x) and 2.0**-128 <= abs(x) <= 2.0**128)
+
+
+def test_range_check_agrees_with_the_rule_at_its_edges():
+    """The check works on the bit patterns' 32-bit words (common.hpp); every value here, alone in
+    a long array (the vectorised scan) at a random entry, is accepted exactly when the rule on
+    the value says so: both ends and their neighbours, denormals, NaNs with payloads, patterns
+    whose high word alone is in range, both signs."""
+    rng = np.random.default_rng(6)
+    ends = [2.0**-128, 2.0**128, 2.0**-1022, 5e-324, np.inf, 1.0, 2.0**-127, 2.0**127]
+    values = [0.0, np.nan, np.float64(np.uint64(0x7ff0000000000001).view(np.float64)),
+              np.float64(np.uint64(0x47f0000000000001).view(np.float64)),  # 2^128's high word, low bits set
+              np.float64(np.uint64(0x37efffffffffffff).view(np.float64)),  # just below 2^-128
+              np.float64(np.uint64(0x0000000000000001).view(np.float64))]
+    for e in ends:
+        values += [e, np.nextafter(e, 0.0), np.nextafter(e, np.inf)]
+    values += list(2.0 ** rng.uniform(-140, 140, 200) * rng.uniform(1, 2, 200))
+    pos = np.array(values, dtype=np.float64)
+    values = list(pos) + list((pos.view(np.uint64) | np.uint64(1 << 63)).view(np.float64))  # the sign bit set
+    V = np.full((3000, 3), 0.5)
+    for v in values:
+        r, c = int(rng.integers(V.shape[0])), int(rng.integers(3))
+        a = V.copy()
+        a[r, c] = v
+        if _in_range(v):
+            core.contour.simplicity_test(np.arange(3, dtype=np.int32), a, np.array([0.0, 0.0, 1.0]))
+        else:
+            with pytest.raises(ValueError, match=rf"^V: .* at row {r}, column {c}"):
+                core.contour.simplicity_test(np.arange(3, dtype=np.int32), a, np.array([0.0, 0.0, 1.0]))

@@ -79,17 +79,18 @@ inline std::string repr(double x) {
     return std::string(buf, std::to_chars(buf, buf + sizeof buf, x).ptr);
 }
 
-// x is 0 or finite with |x| in [2^-128, 2^128].
-inline bool in_coordinate_range(double x) {
-    // On |x|'s bits: non-negative doubles order as their bit patterns, and infinities and NaNs
-    // lie above 2^128's, so one unsigned comparison checks the range: 0.5-0.8 ns per value here,
-    // against 1.5 for the same test on doubles (GCC does not vectorise it) and 1.1 for the NumPy
-    // check the public API used to run.
-    constexpr uint64_t kLo = 0x37f0000000000000ull, kHi = 0x47f0000000000000ull;  // 2^-128, 2^128
+// 1 unless x is 0 or finite with |x| in [2^-128, 2^128]. On |x|'s bits: non-negative doubles
+// order as their bit patterns, and infinities and NaNs lie above 2^128's. |x| is in
+// [2^-128, 2^128) iff its high 32-bit word is in [0x37f00000, 0x47f00000) (both ends' low words
+// are 0); 2^128 itself is the one pattern with high word 0x47f00000 allowed. In 32-bit words,
+// with an unsigned int (not a bool) to accumulate, GCC vectorises the scan with SSE2, which
+// has no 64-bit compare: 0.35 ns per value against 0.8 for one 64-bit comparison (measured on
+// 96K values, a 32K-vertex query's positions).
+inline uint32_t out_of_coordinate_range(double x) {
     uint64_t b;
     std::memcpy(&b, &x, sizeof b);
-    b &= 0x7fffffffffffffffull;
-    return (b == 0) | (b - kLo <= kHi - kLo);
+    const uint32_t hi = static_cast<uint32_t>(b >> 32) & 0x7fffffffu, lo = static_cast<uint32_t>(b);
+    return !(((hi | lo) == 0) | (hi - 0x37f00000u < 0x10000000u) | ((hi == 0x47f00000u) & (lo == 0)));
 }
 
 // Raises ValueError, naming the argument and the entry (row and column of a 2D array), unless
@@ -99,11 +100,11 @@ inline bool in_coordinate_range(double x) {
 inline void require_coordinates(const F64Array& a, const char* name) {
     const double* v = a.data();
     const py::ssize_t n = a.size();
-    bool ok = true;
-    for (py::ssize_t i = 0; i < n; ++i) ok &= in_coordinate_range(v[i]);
-    if (ok) return;
+    uint32_t out = 0;
+    for (py::ssize_t i = 0; i < n; ++i) out |= out_of_coordinate_range(v[i]);
+    if (!out) return;
     py::ssize_t bad = 0;
-    while (in_coordinate_range(v[bad])) ++bad;
+    while (!out_of_coordinate_range(v[bad])) ++bad;
     std::string where;
     if (a.ndim() == 2) {
         where = " at row " + std::to_string(bad / a.shape(1)) + ", column " + std::to_string(bad % a.shape(1));
