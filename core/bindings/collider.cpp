@@ -127,11 +127,14 @@ Arithmetic parse_arithmetic(const std::string& s) {
 py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
     const py::ssize_t n = static_cast<py::ssize_t>(bvh.nodes.size());
     py::array_t<int32_t> count(n);
+    py::array_t<uint8_t> resting(n);
     int32_t* c = count.mutable_data();
+    uint8_t* r = resting.mutable_data();
     std::vector<int32_t> owner, ab;
     for (py::ssize_t x = 0; x < n; ++x) {
-        const bool live = static_cast<size_t>(x) < f.tracked.size() && f.is_tracked(static_cast<int32_t>(x));
-        c[x] = live ? f.count[x] : 0;
+        const bool sized = static_cast<size_t>(x) < f.tracked.size();  // reset() sizes tracked and rest together
+        c[x] = sized && f.is_tracked(static_cast<int32_t>(x)) ? f.count[x] : 0;
+        r[x] = sized ? f.rest[x] : 0;
         for (int32_t i = 0; i < c[x]; ++i) {
             const FrontEntry& e = f.entries[f.begin[x] + i];
             owner.push_back(static_cast<int32_t>(x));
@@ -139,9 +142,6 @@ py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
             ab.push_back(e.b);
         }
     }
-    py::array_t<uint8_t> resting(n);
-    uint8_t* r = resting.mutable_data();
-    for (py::ssize_t x = 0; x < n; ++x) r[x] = static_cast<size_t>(x) < f.rest.size() ? f.rest[x] : 0;
     py::dict d;
     d["count"] = count;
     d["resting"] = resting;
