@@ -6,6 +6,7 @@
 // pairs across the children by Collide(L, R) or, with a front, by FrontTracking(Front_N).
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <utility>
@@ -128,6 +129,7 @@ class SelfCollideTraversal {
     void run() {
         if constexpr (kTrackFront) part_->clear();
         if (bvh_.size() > 0) self_collide(0);
+        flush();
         if constexpr (kTrackFront) front_->finish_query(stats_);
     }
 
@@ -186,6 +188,7 @@ class SelfCollideTraversal {
         } else {
             collide<false>(t.a, t.b);
         }
+        flush();
     }
 
    private:
@@ -370,7 +373,17 @@ class SelfCollideTraversal {
         }
     }
 
-    void emit(int32_t s, int32_t t) { out_.emplace_back(s < t ? s : t, s < t ? t : s); }
+    // Candidates go to out_ through a small buffer, flushed when full and at the end of run() and
+    // run_task(): a push to out_ in the recursion compiled to an out-of-line call per candidate
+    // (3.5% of the samples of a first-hit DCD query on the armadillo step).
+    [[gnu::always_inline]] void emit(int32_t s, int32_t t) {
+        buffer_[buffered_++] = {s < t ? s : t, s < t ? t : s};
+        if (buffered_ == kBuffer) flush();
+    }
+    [[gnu::noinline]] void flush() {
+        out_.insert(out_.end(), buffer_.begin(), buffer_.begin() + buffered_);
+        buffered_ = 0;
+    }
 
     const Bvh& bvh_;
     const Contours& contours_;
@@ -387,6 +400,9 @@ class SelfCollideTraversal {
     // merge only ever looks at the last two, and replaces them by one that may merge again, so
     // this count is all it needs (one sub-segment is built at a time).
     int32_t mergeable_run_ = 0;
+    static constexpr int32_t kBuffer = 64;
+    std::array<TrianglePair, kBuffer> buffer_;
+    int32_t buffered_ = 0;
 };
 
 }  // namespace conecull
