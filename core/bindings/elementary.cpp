@@ -30,35 +30,45 @@ void bind_elementary(py::module_& m) {
         },
         py::arg("fp"), py::arg("P"), py::arg("fq"), py::arg("Q"),
         "Exact triangle pair test: face ids fp, fq (k, 3) decide shared vertices; positions P, Q (k, 3, 3).");
+    // Rows of `pairs` in blocks of four, as the DCD loop runs them (the last block padded with its
+    // first pair): bit l of four(V, F, block) is row b + l's answer.
+    const auto in_blocks = [](const I32Array& faces, const F64Array& V, const I32Array& pairs, auto four) {
+        require_shape(faces, "faces", -1, 3);
+        require_points(V, "V", -1, 3);
+        require_shape(pairs, "pairs", -1, 2);
+        require_indices(faces, "faces", "vertex index", V.shape(0));
+        require_indices(pairs, "pairs", "face index", faces.shape(0));
+        const int32_t* q = pairs.data();
+        const py::ssize_t k = pairs.shape(0);
+        py::array_t<bool> out(k);
+        bool* o = out.mutable_data();
+        for (py::ssize_t b = 0; b < k; b += 4) {
+            FacePair block[4];
+            for (int l = 0; l < 4; ++l) {
+                const py::ssize_t i = b + l < k ? b + l : b;
+                block[l] = {q[2 * i], q[2 * i + 1]};
+            }
+            const uint32_t bits = four(V.data(), faces.data(), block);
+            for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) != 0;
+        }
+        return out;
+    };
     m.def(
         "triangles_apart",
-        [](const I32Array& faces, const F64Array& V, const I32Array& pairs, bool portable) {
-            require_shape(faces, "faces", -1, 3);
-            require_points(V, "V", -1, 3);
-            require_shape(pairs, "pairs", -1, 2);
-            require_indices(faces, "faces", "vertex index", V.shape(0));
-            require_indices(pairs, "pairs", "face index", faces.shape(0));
-            const int32_t* f = faces.data();
-            const int32_t* q = pairs.data();
-            const py::ssize_t k = pairs.shape(0);
-            py::array_t<bool> out(k);
-            bool* o = out.mutable_data();
-            // Blocks of four as the DCD loop runs them; the last block padded with its first pair.
-            for (py::ssize_t b = 0; b < k; b += 4) {
-                FacePair block[4];
-                for (int l = 0; l < 4; ++l) {
-                    const py::ssize_t i = b + l < k ? b + l : b;
-                    block[l] = {q[2 * i], q[2 * i + 1]};
-                }
-                const uint32_t bits = portable ? triangles_apart4_portable(V.data(), f, block)
-                                               : triangles_apart4(V.data(), f, block);
-                for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) != 0;
-            }
-            return out;
+        [in_blocks](const I32Array& faces, const F64Array& V, const I32Array& pairs, bool portable) {
+            return in_blocks(faces, V, pairs, portable ? triangles_apart4_portable : triangles_apart4);
         },
         py::arg("faces"), py::arg("V"), py::arg("pairs"), py::arg("portable") = false,
         "The DCD loop's certified plane rejection (triangles_apart4), four pairs at a time: True where the pair "
         "(rows of faces) is proven not to collide. portable=True: the path without AVX2.");
+    m.def(
+        "triangles_collide4",
+        [in_blocks](const I32Array& faces, const F64Array& V, const I32Array& pairs, bool portable) {
+            return in_blocks(faces, V, pairs, portable ? triangles_collide4_portable : triangles_collide4);
+        },
+        py::arg("faces"), py::arg("V"), py::arg("pairs"), py::arg("portable") = false,
+        "The DCD loop's whole pair test (triangles_collide4), four pairs at a time: True where the pair (rows of "
+        "faces) collides, as triangles_collide answers. portable=True: the path without AVX2.");
     m.def("triangles_apart_vectorised", &triangles_apart4_vectorised,
           "Whether triangles_apart runs its AVX2 path on this CPU.");
 }

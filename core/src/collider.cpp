@@ -164,10 +164,11 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
             __builtin_prefetch(V + 3 * static_cast<size_t>(fq[i]));
         }
     };
-    // The candidates p[0, n) in order, four at a time: triangles_apart4's certified plane
-    // rejection settles most (85-88% on the real steps; each costs a third of a full test), the
-    // others go to the exact test. on_hit(k) for the k-th if it collides; true stops the scan
-    // there: returns k, or n at the end. A traced query gets each pair's event in order.
+    // The candidates p[0, n) in order, four at a time: triangles_collide4's certified plane
+    // rejection settles most (85-88% on the real steps; each costs a third of a full test), and
+    // the signs it proved decide most others in the same lanes; what is left goes to the exact
+    // test. on_hit(k) for the k-th if it collides; true stops the scan there: returns k, or n at
+    // the end. A traced query gets each pair's event in order.
     const auto scan = [&](const TrianglePair* p, int64_t n, const auto& on_hit) -> int64_t {
         int64_t k = 0;
         for (; k + 4 <= n; k += 4) {
@@ -175,19 +176,17 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
                 if (k + 16 + l < n) ahead(p[k + 16 + l], 16);
                 if (k + 8 + l < n) ahead(p[k + 8 + l], 8);
             }
-            const uint32_t apart = triangles_apart4(V, F, p + k);
+            const uint32_t hits = triangles_collide4(V, F, p + k);
             if constexpr (kTraceHooks<Tracer>) {
                 for (int l = 0; l < 4; ++l) {
-                    if (apart >> l & 1) {
-                        tracer.on_elementary(p[k + l].first, p[k + l].second, false);
-                    } else if (collide(p[k + l]) && on_hit(k + l)) {
-                        return k + l;
-                    }
+                    const bool hit = hits >> l & 1;
+                    tracer.on_elementary(p[k + l].first, p[k + l].second, hit);
+                    if (hit && on_hit(k + l)) return k + l;
                 }
             } else {
-                for (uint32_t rest = ~apart & 15u; rest != 0; rest &= rest - 1) {  // in lane order
+                for (uint32_t rest = hits; rest != 0; rest &= rest - 1) {  // in lane order
                     const int l = __builtin_ctz(rest);
-                    if (collide(p[k + l]) && on_hit(k + l)) return k + l;
+                    if (on_hit(k + l)) return k + l;
                 }
             }
         }

@@ -1,11 +1,14 @@
-"""The DCD loop's certified plane rejection (elementary/triangles_apart.hpp), four pairs at a time.
+"""The DCD loop's pair tests (elementary/triangles_apart.hpp), four pairs at a time.
 
-A lane may say "apart" only when the rule holds exactly: the corners of one triangle that are not
-corners of the other lie strictly on one side of the other's plane. Checked against a Fraction
-twin of that rule and against the rational pair oracle, on the pair strategies of the exact
-triangle test (lattice, near-degenerate, ulp-nudged, rotated flat sheets); the AVX2 path and the
-portable one must give the same bits, lane by lane; and clearly separated pairs must be settled
-(a filter that never answers would pass the rest)."""
+triangles_apart: a lane may say "apart" only when the rule holds exactly: the corners of one
+triangle that are not corners of the other lie strictly on one side of the other's plane. Checked
+against a Fraction twin of that rule and against the rational pair oracle, on the pair strategies
+of the exact triangle test (lattice, near-degenerate, ulp-nudged, rotated flat sheets); the AVX2
+path and the portable one must give the same bits, lane by lane; and clearly separated pairs must
+be settled (a filter that never answers would pass the rest).
+
+triangles_collide4: the whole answer (the rejection, then the lanes it leaves decided from its
+signs, or by the exact test): equal to the rational oracle on the same strategies, both paths."""
 
 import numpy as np
 import pytest
@@ -45,15 +48,26 @@ def apart_both(faces, V, pairs):
     return a
 
 
+def collide4_both(faces, V, pairs):
+    a = E.triangles_collide4(faces, V, pairs)
+    b = E.triangles_collide4(faces, V, pairs, portable=True)
+    np.testing.assert_array_equal(a, b)
+    return a
+
+
 def check(fp, P, fq, Q):
     faces, V = as_mesh(fp, P, fq, Q)
     P, Q = V[fp].tolist(), V[fq].tolist()  # the positions the core sees
-    got = apart_both(faces, V, np.array([[0, 1], [1, 0]], np.int32))
+    both_ways = np.array([[0, 1], [1, 0]], np.int32)
+    got = apart_both(faces, V, both_ways)
     assert got[0] == got[1]  # the rule is symmetric in P and Q
+    shared = [k for k in range(3) if fp[k] in fq]
+    collides = triangle_pair_collides(P, Q, tuple(shared))
     if got[0]:
         assert exact_rule(fp, P, fq, Q)
-        shared = [k for k in range(3) if fp[k] in fq]
-        assert not triangle_pair_collides(P, Q, tuple(shared))
+        assert not collides
+    hit = collide4_both(faces, V, both_ways)
+    assert hit[0] == hit[1] == collides, (fp, P, fq, Q)
     return bool(got[0])
 
 
@@ -147,6 +161,26 @@ def test_lanes_match_single_pairs():
     np.testing.assert_array_equal(got, rule)  # and, far from degenerate, as sharp as the exact rule
 
 
+def test_collide4_lanes_match_the_exact_test():
+    """A soup of generic pairs (no corner shared, one shared, an edge shared; most planes cross each
+    other, so most pairs reach the decision from signs) in one call: each lane is triangles_collide's
+    answer for its pair, and pairs sharing no corner or one both collide and miss."""
+    rng = np.random.default_rng(5)
+    n = 40
+    V = rng.uniform(-1, 1, (n, 3))
+    faces = np.array([rng.choice(n, 3, replace=False) for _ in range(120)], np.int32)
+    pairs = rng.integers(0, len(faces), (2001, 2)).astype(np.int32)
+    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    got = collide4_both(faces, V, pairs)
+    fp, fq = faces[pairs[:, 0]], faces[pairs[:, 1]]
+    want = E.triangles_collide(fp, V[fp], fq, V[fq])
+    np.testing.assert_array_equal(got, want)
+    shared = np.array([len(set(a) & set(b)) for a, b in zip(fp.tolist(), fq.tolist())])
+    for k in (0, 1):  # both cases of the decision from signs, each with both answers
+        assert 0 < got[shared == k].mean() < 1, k
+    assert (shared == 2).sum() > 10  # shared edges too (they go to the exact test)
+
+
 @pytest.mark.parametrize("bad, match", [
     (dict(pairs=np.array([[0, 2]], np.int32)), "pairs: face index 2"),
     (dict(faces=np.array([[0, 1, 9], [0, 1, 2]], np.int32)), "faces: vertex index 9"),
@@ -156,5 +190,6 @@ def test_lanes_match_single_pairs():
 def test_bad_input_is_named(bad, match):
     args = dict(faces=np.array([[0, 1, 2], [0, 2, 1]], np.int32), V=np.eye(3), pairs=np.array([[0, 1]], np.int32))
     args.update(bad)
-    with pytest.raises(ValueError, match=match):
-        E.triangles_apart(args["faces"], args["V"], args["pairs"])
+    for test in (E.triangles_apart, E.triangles_collide4):
+        with pytest.raises(ValueError, match=match):
+            test(args["faces"], args["V"], args["pairs"])

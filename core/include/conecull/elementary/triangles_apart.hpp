@@ -25,6 +25,13 @@ using FacePair = std::pair<int32_t, int32_t>;
 uint32_t triangles_apart4(const double* V, const int32_t* F, const FacePair* pairs);
 // The same without AVX2 (for the tests: both paths must agree).
 uint32_t triangles_apart4_portable(const double* V, const int32_t* F, const FacePair* pairs);
+// Bit l set: pairs[l] collides, exactly as triangles_collide answers. The plane rejection above
+// settles most pairs; of the others, the generic ones are decided in the same four lanes from
+// the signs it proved (with two more filtered orient3d where no corner is shared), the rest by
+// triangles_collide.
+uint32_t triangles_collide4(const double* V, const int32_t* F, const FacePair* pairs);
+// The same without AVX2: the plane rejection, then triangles_collide.
+uint32_t triangles_collide4_portable(const double* V, const int32_t* F, const FacePair* pairs);
 // Whether triangles_apart4 runs its AVX2 path on this CPU.
 bool triangles_apart4_vectorised();
 
