@@ -142,15 +142,20 @@ def test_separated_pairs_are_settled():
     assert apart_both(faces, V, pairs).all()
 
 
+def soup(seed, n_vertices, n_faces, n_pairs):
+    """Random faces over random points in the unit cube (vertices shared at random), and random
+    pairs of distinct faces."""
+    rng = np.random.default_rng(seed)
+    V = rng.uniform(-1, 1, (n_vertices, 3))
+    faces = np.array([rng.choice(n_vertices, 3, replace=False) for _ in range(n_faces)], np.int32)
+    pairs = rng.integers(0, n_faces, (n_pairs, 2)).astype(np.int32)
+    return faces, V, pairs[pairs[:, 0] != pairs[:, 1]]
+
+
 def test_lanes_match_single_pairs():
     """Many pairs of a random soup in one call: each lane's bit is the bit of its pair tested on
     its own (a transpose or a mask that mixed lanes would show here), and sound."""
-    rng = np.random.default_rng(11)
-    n = 60
-    V = rng.uniform(-1, 1, (n, 3))
-    faces = np.array([rng.choice(n, 3, replace=False) for _ in range(80)], np.int32)
-    pairs = rng.integers(0, len(faces), (401, 2)).astype(np.int32)
-    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    faces, V, pairs = soup(seed=11, n_vertices=60, n_faces=80, n_pairs=401)
     got = apart_both(faces, V, pairs)
     one = np.array([apart_both(faces, V, pairs[i:i + 1])[0] for i in range(len(pairs))])
     np.testing.assert_array_equal(got, one)
@@ -165,12 +170,7 @@ def test_collide4_lanes_match_the_exact_test():
     """A soup of generic pairs (no corner shared, one shared, an edge shared; most planes cross each
     other, so most pairs reach the decision from signs) in one call: each lane is triangles_collide's
     answer for its pair, and pairs sharing no corner or one both collide and miss."""
-    rng = np.random.default_rng(5)
-    n = 40
-    V = rng.uniform(-1, 1, (n, 3))
-    faces = np.array([rng.choice(n, 3, replace=False) for _ in range(120)], np.int32)
-    pairs = rng.integers(0, len(faces), (2001, 2)).astype(np.int32)
-    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    faces, V, pairs = soup(seed=5, n_vertices=40, n_faces=120, n_pairs=2001)
     got = collide4_both(faces, V, pairs)
     fp, fq = faces[pairs[:, 0]], faces[pairs[:, 1]]
     want = E.triangles_collide(fp, V[fp], fq, V[fq])

@@ -6,10 +6,11 @@
 // of the shared corners (they lie on it), so P n Q is inside S and the pair does not collide in
 // the sense of triangles_collide; likewise with P and Q swapped. Each sign is the orient3d
 // filter of FilteredPlane, bit for bit (same operations, same order, no FMA): a lane is set
-// only when the filter proves every sign, so the rule holds exactly. Unproven lanes go to
-// triangles_collide, which decides them exactly: together they answer what triangles_collide
-// alone answers. Per pair the block costs about a third of a full test (12-16 against 35-39 ns
-// on the candidates of the real steps, warm), and settles 85-88% of them there.
+// only when the filter proves every sign, so the rule holds exactly. Per pair the block costs
+// about a third of a full test (12-16 against 35-39 ns on the candidates of the real steps,
+// warm), and settles 85-88% of them there. triangles_collide4, the DCD loop's test, decides most
+// lanes it leaves from the signs it proved and the rest with triangles_collide: together they
+// answer exactly what triangles_collide alone answers.
 #pragma once
 
 #include <cstdint>
