@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "conecull/elementary/triangle_triangle.hpp"
 #include "conecull/elementary/triangles_apart.hpp"
 #include "conecull/parallel.hpp"
 #include "conecull/trace/null_tracer.hpp"
@@ -141,11 +140,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     DcdStats& st = res.stats;
     const int32_t* F = topo_->faces.data();
     const auto collide = [&](const TrianglePair& c) {
-        const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
-        const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
-        const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
-        const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
-        const bool hit = triangles_collide(fp, P, fq, Q);
+        const bool hit = triangles_collide_rows(V, F, c);
         if constexpr (kTraceHooks<Tracer>) tracer.on_elementary(c.first, c.second, hit);
         return hit;
     };

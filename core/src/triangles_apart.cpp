@@ -29,15 +29,6 @@ bool one_side_excused(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3 d[
     return pos || neg;
 }
 
-// triangles_collide on one pair of rows of F.
-bool collide_one(const double* V, const int32_t* F, const FacePair& pair) {
-    const int32_t* fp = F + 3 * static_cast<size_t>(pair.first);
-    const int32_t* fq = F + 3 * static_cast<size_t>(pair.second);
-    const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
-    const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
-    return triangles_collide(fp, P, fq, Q);
-}
-
 #if CONECULL_HAS_AVX2_PATH
 // ---- AVX2: the four pairs side by side, one pair per 64-bit lane ---------------------------
 
@@ -266,6 +257,14 @@ inline void lone_corners(const uint32_t pos[3], uint32_t lone[3]) {
 
 }  // namespace
 
+bool triangles_collide_rows(const double* V, const int32_t* F, const FacePair& pair) {
+    const int32_t* fp = F + 3 * static_cast<size_t>(pair.first);
+    const int32_t* fq = F + 3 * static_cast<size_t>(pair.second);
+    const Vec3 P[3] = {load(V, fp[0]), load(V, fp[1]), load(V, fp[2])};
+    const Vec3 Q[3] = {load(V, fq[0]), load(V, fq[1]), load(V, fq[2])};
+    return triangles_collide(fp, P, fq, Q);
+}
+
 uint32_t triangles_apart4_portable(const double* V, const int32_t* F, const FacePair* pairs) {
     uint32_t bits = 0;
     for (int l = 0; l < 4; ++l) {
@@ -288,7 +287,7 @@ uint32_t triangles_collide4_portable(const double* V, const int32_t* F, const Fa
     const uint32_t apart = triangles_apart4_portable(V, F, pairs);
     uint32_t hits = 0;
     for (int l = 0; l < 4; ++l)
-        if (!(apart >> l & 1) && collide_one(V, F, pairs[l])) hits |= 1u << l;
+        if (!(apart >> l & 1) && triangles_collide_rows(V, F, pairs[l])) hits |= 1u << l;
     return hits;
 }
 
@@ -315,7 +314,7 @@ uint32_t triangles_collide4(const double* V, const int32_t* F, const FacePair* p
         uint32_t hits = triangles_collide4_avx2(V, F, pairs, decided);
         for (uint32_t rest = ~decided & 15u; rest != 0; rest &= rest - 1) {
             const int l = __builtin_ctz(rest);
-            if (collide_one(V, F, pairs[l])) hits |= 1u << l;
+            if (triangles_collide_rows(V, F, pairs[l])) hits |= 1u << l;
         }
         return hits;
     }

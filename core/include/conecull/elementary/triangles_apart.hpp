@@ -33,6 +33,8 @@ uint32_t triangles_apart4_portable(const double* V, const int32_t* F, const Face
 uint32_t triangles_collide4(const double* V, const int32_t* F, const FacePair* pairs);
 // The same without AVX2: the plane rejection, then triangles_collide.
 uint32_t triangles_collide4_portable(const double* V, const int32_t* F, const FacePair* pairs);
+// triangles_collide on one pair of rows of F (positions V).
+bool triangles_collide_rows(const double* V, const int32_t* F, const FacePair& pair);
 // Whether triangles_apart4 runs its AVX2 path on this CPU.
 bool triangles_apart4_vectorised();
 
