@@ -5,9 +5,15 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 # Scenes are cached on disk; tests use a private cache so they never read a user's stale one.
+# It is removed when the run ends, so repeated runs do not fill /tmp.
+import atexit  # noqa: E402
+import shutil  # noqa: E402
 import tempfile  # noqa: E402
 
-os.environ.setdefault("CONECULL_CACHE", tempfile.mkdtemp(prefix="conecull-cache-"))
+if "CONECULL_CACHE" not in os.environ:
+    _cache = tempfile.mkdtemp(prefix="conecull-cache-")
+    os.environ["CONECULL_CACHE"] = _cache
+    atexit.register(shutil.rmtree, _cache, ignore_errors=True)
 
 # Hypothesis: a failure always prints how to replay it; in CI (.ci/run sets CONECULL_CI=1) the
 # examples are derived from each test's name, so a red run replays identically.
