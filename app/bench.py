@@ -331,6 +331,20 @@ def _generated_ccd_steps(n_triangles: int):
             (f"generated fold ({len(F) // 1000}K, jittered)", F, G0 + J, G1 + J, None, None)]
 
 
+def _compute_ceiling(threads: int, pairs: int = 5) -> float:
+    """The machine's parallel ceiling now: the core's compute loop (no memory traffic) through its
+    own thread pool, 1 thread against `threads`, taking turns; the median of `pairs` ratios. On a
+    VM a vCPU can be taken away for seconds; a run where this is low says so."""
+    from conecull import _core
+
+    _core.parallel.compute_ceiling(threads)  # the pool's threads start on first use
+    ratios = []
+    for _ in range(pairs):
+        one = _core.parallel.compute_ceiling(1)
+        ratios.append(one / _core.parallel.compute_ceiling(threads))
+    return statistics.median(ratios)
+
+
 def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
                       threads: int = 2) -> int:
     """One thread against `threads` on the same queries: DCD on the `bench dcd` scene (per
@@ -338,6 +352,7 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     generated fold step (method nc, per arithmetic mode). The two thread counts take turns
     within each run; results are checked identical. Medians; the machine's other load shows."""
     counts = (1, threads)
+    ceiling_before = _compute_ceiling(threads)
     F, frames = _folded_sheet_frames(n_triangles, n_frames)
     mesh = conecull.Mesh(F)
     cpu = platform.processor() or platform.machine()
@@ -396,13 +411,17 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
             rows.append(row)
             print(f"| ccd nc {mode} | {t} | {row['query_ms']:.1f} | {row['refit_ms']:.1f} | {row['traversal_ms']:.1f} | "
                   f"{row['pairs_ms']:.1f} | {row['elementary_ms']:.1f} | {row['speedup']:.2f}x |")
+    ceiling = (ceiling_before, _compute_ceiling(threads))
     os.makedirs(out, exist_ok=True)
     path = os.path.join(out, "threads.json")
     with open(path, "w") as fh:
         json.dump({"triangles": mesh.n_faces, "frames": n_frames, "repeats": repeats, "threads": counts,
-                   "cores": os.cpu_count(), "load_avg": os.getloadavg(), "rows": rows}, fh, indent=1)
+                   "cores": os.cpu_count(), "load_avg": os.getloadavg(), "compute_ceiling": ceiling, "rows": rows},
+                  fh, indent=1)
     print()
     print(f"(speed-up: 1-thread query ms / this; load average {os.getloadavg()[0]:.2f} at the end; JSON: {path})")
+    print(f"(the machine's ceiling, a compute loop through the same thread pool, {threads} threads against 1: "
+          f"{ceiling[0]:.2f}x before the queries, {ceiling[1]:.2f}x after)")
     return 0
 
 

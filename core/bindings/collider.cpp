@@ -12,8 +12,6 @@ namespace conecull::bind {
 
 namespace {
 
-constexpr int kMaxThreads = 1024;
-
 // One query at a time per collider (queries refit shared state); the GIL is released inside.
 struct PyCollider {
     SelfCollider collider;
@@ -101,8 +99,7 @@ py::array_t<int64_t> pair_rows(const std::vector<std::pair<int32_t, int32_t>>& v
     return a;
 }
 
-// 0: the default (all cores for a collider, the collider's for a query); the cap only stops
-// a typo from starting thousands of threads.
+// 0: the default (all cores for a collider, the collider's for a query).
 void check_threads(int threads) {
     if (threads < 0 || threads > kMaxThreads)
         throw py::value_error("threads: expected 0 (default) or a count in [1, " + std::to_string(kMaxThreads) + "], got " +

@@ -22,6 +22,9 @@ namespace py = pybind11;
 
 namespace conecull::bind {
 
+// A thread count's cap: it only stops a typo from starting thousands of threads.
+constexpr int kMaxThreads = 1024;
+
 // Runs f() with the GIL released. Not py::gil_scoped_release: its destructor takes the GIL back,
 // and a daemon thread that does so while the interpreter shuts down is ended right there by
 // pthread_exit, whose unwinding out of a destructor (noexcept) aborts the whole process

@@ -14,6 +14,7 @@ void bind_elementary(py::module_& m);
 void bind_collider(py::module_& m);
 void bind_ccd(py::module_& m);
 void bind_traversal(py::module_& m);
+void bind_parallel(py::module_& m);
 }  // namespace conecull::bind
 
 #ifndef CONECULL_MODULE_NAME
@@ -37,5 +38,7 @@ PYBIND11_MODULE(CONECULL_MODULE_NAME, m) {
     bind_ccd(ccd);
     auto traversal = m.def_submodule("traversal", "BVTT traversal (Alg. 2, 4): the first-hit order");
     bind_traversal(traversal);
+    auto parallel = m.def_submodule("parallel", "The thread pool: its parallel ceiling on this machine");
+    bind_parallel(parallel);
     bind_collider(m);
 }

@@ -62,6 +62,8 @@ def test_bench_threads(tmp_path, threads):
     assert {("dcd", m) for m in ("aabb", "nc", "aabb+front", "nc+front")} <= queries
     assert {("ccd", f"ccd {a}") for a in ("float", "conservative", "exact")} <= queries
     assert got == {(k, q, t) for k, q in queries for t in (1, int(threads))}
+    before, after = res["compute_ceiling"]  # the machine's ceiling, before and after the queries
+    assert before > 0 and after > 0
 
 
 def test_bench_first_hit(tmp_path):

@@ -131,6 +131,19 @@ def test_threads_default_and_bad_values():
         conecull._core.SelfCollider(mesh._topo, "nc", 2, -1)  # the core checks too
 
 
+def test_compute_ceiling_runs_and_checks_its_arguments():
+    """The loop `bench threads` times to show the machine's parallel ceiling: it runs on any thread
+    count (its time is not tested), and bad counts name the argument."""
+    ceiling = conecull._core.parallel.compute_ceiling
+    for t in (1, 2, 3):
+        assert ceiling(t, chunks=8, iterations=1000) > 0
+    for kwargs, name in ((dict(threads=0), "threads"), (dict(threads=2000), "threads"),
+                         (dict(threads=2, chunks=0), "chunks"), (dict(threads=2, chunks=2**21), "chunks"),
+                         (dict(threads=2, iterations=0), "iterations"), (dict(threads=2, iterations=2 * 10**9), "iterations")):
+        with pytest.raises(ValueError, match=name):
+            ceiling(**kwargs)
+
+
 def test_refit_identical_for_any_thread_count():
     """The parallel refit (subtrees below a cut in parallel, then the nodes above it) gives the
     same boxes and cones, bit for bit; the mesh is large enough for the parallel sweep."""
