@@ -133,6 +133,22 @@ def test_float32_accepted_and_same_result():
     assert np.array_equal(r32.pairs, r64.pairs)
 
 
+def test_float64_positions_read_in_place():
+    """A float64 C-contiguous array goes to the core as it is (no per-query copy); any other
+    layout or type is converted first, and a strided view still answers as its copy does."""
+    from conecull._api import _as_positions
+
+    Vc = np.ascontiguousarray(V, dtype=np.float64)
+    assert _as_positions(Vc, len(Vc)) is Vc
+    wide = np.zeros((len(V), 6))
+    wide[:, ::2] = V
+    view = wide[:, ::2]
+    a = _as_positions(view, len(V))
+    assert a.flags["C_CONTIGUOUS"] and not np.shares_memory(a, wide)
+    assert np.array_equal(col().dcd(view).pairs, col().dcd(Vc).pairs)
+    assert _as_positions(V.astype(np.float32), len(V)).dtype == np.float64
+
+
 @pytest.mark.parametrize("method", conecull.METHODS)
 def test_empty_mesh(method):
     for faces in (np.zeros((0, 3), dtype=np.int64), [], np.zeros((0, 3))):

@@ -33,7 +33,7 @@ def _asarray(x, name: str) -> np.ndarray:
 def _as_float64(a: np.ndarray, name: str) -> np.ndarray:
     """a as float64 if that conversion is exact; otherwise a ValueError (a rounded coordinate
     would make every exact sign after it the sign of another input)."""
-    b = a.astype(np.float64)
+    b = a.astype(np.float64, copy=False)
     if a.dtype.itemsize > 4 and a.dtype != np.float64 and not np.array_equal(b.astype(a.dtype), a, equal_nan=True):
         what = "integer coordinates beyond 2^53 are" if a.dtype.kind in "iu" else f"{a.dtype} coordinates are"
         raise ValueError(f"{name}: some {what} not exactly float64 (rounding would move them); pass float64")
