@@ -10,7 +10,12 @@
 // the motion between queries is large.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "conecull/bvh/bvh.hpp"
@@ -23,9 +28,67 @@ struct FrontEntry {
     int32_t a, b;
 };
 
+// The entries of a front: an array like std::vector's, whose append is inline. Every entry a
+// query keeps is appended once; std::vector::push_back compiled to an out-of-line call through
+// the PLT per entry, and around that opaque call the update loop reloaded the node array and
+// its counters from memory (flamenco, perf: the call and its reloads took about a fifth of
+// FrontTracking's samples). resize() leaves new entries uninitialised: every use overwrites
+// them (the parallel traversal's join) or only shrinks.
+class FrontEntries {
+   public:
+    FrontEntries() = default;
+    FrontEntries(const FrontEntries&) = delete;
+    FrontEntries& operator=(const FrontEntries&) = delete;
+    FrontEntries(FrontEntries&& o) noexcept { swap(o); }
+    FrontEntries& operator=(FrontEntries&& o) noexcept {
+        swap(o);
+        return *this;
+    }
+    ~FrontEntries() { std::free(data_); }
+
+    size_t size() const { return size_; }
+    bool empty() const { return size_ == 0; }
+    FrontEntry* data() { return data_; }
+    const FrontEntry* data() const { return data_; }
+    FrontEntry* begin() { return data_; }
+    FrontEntry* end() { return data_ + size_; }
+    const FrontEntry* begin() const { return data_; }
+    const FrontEntry* end() const { return data_ + size_; }
+    FrontEntry& operator[](size_t i) { return data_[i]; }
+    const FrontEntry& operator[](size_t i) const { return data_[i]; }
+    FrontEntry& back() { return data_[size_ - 1]; }
+
+    [[gnu::always_inline]] void push_back(FrontEntry e) {
+        if (__builtin_expect(size_ == capacity_, 0)) grow(size_ + 1);
+        data_[size_++] = e;
+    }
+    void clear() { size_ = 0; }
+    void resize(size_t n) {
+        if (n > capacity_) grow(n);
+        size_ = n;
+    }
+    void swap(FrontEntries& o) {
+        std::swap(data_, o.data_);
+        std::swap(size_, o.size_);
+        std::swap(capacity_, o.capacity_);
+    }
+
+   private:
+    [[gnu::noinline]] void grow(size_t at_least) {
+        const size_t cap = std::max<size_t>({at_least, 2 * capacity_, 1024});
+        void* p = std::realloc(data_, cap * sizeof(FrontEntry));
+        if (!p) throw std::bad_alloc();
+        data_ = static_cast<FrontEntry*>(p);
+        capacity_ = cap;
+    }
+    FrontEntry* data_ = nullptr;
+    size_t size_ = 0, capacity_ = 0;
+};
+static_assert(std::is_trivially_copyable_v<FrontEntry>, "FrontEntries moves entries with realloc");
+
 // Sub-segments built one after another (by a query, or by one task of the parallel traversal).
 struct FrontPart {
-    std::vector<FrontEntry> entries;
+    FrontEntries entries;
     std::vector<int32_t> nodes;  // parallel traversal only: X with begin[X] into `entries`
     void clear() {
         entries.clear();
@@ -38,7 +101,7 @@ struct BvttFront {
     // is entries[begin[X], begin[X] + count[X]) if tracked[X] == query, i.e. X was visited and
     // not culled by the last query. Nothing else is kept: a culled region keeps no front (the
     // memory Alg. 4 saves) and is rebuilt from the top when it is not culled again.
-    std::vector<FrontEntry> entries;
+    FrontEntries entries;
     std::vector<int64_t> begin;
     std::vector<int32_t> count;
     std::vector<uint64_t> tracked;

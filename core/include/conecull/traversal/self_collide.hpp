@@ -313,17 +313,18 @@ class SelfCollideTraversal {
             const int64_t tests_before = stats_.bv_tests;
             const FrontEntry* seg = f.entries.data() + f.begin[n];
             const int32_t count = f.count[n];
+            const BvhNode* nodes = bvh_.nodes.data();  // in a register across the loop
             for (int32_t k = 0; k < count; ++k) {
                 // A front is a flat list of independent box tests, known ahead: unlike a
                 // top-down descent it can fetch the boxes of later entries while testing this one.
                 if (k + kPrefetchAhead < count) {
-                    __builtin_prefetch(&bvh_[seg[k + kPrefetchAhead].a]);
-                    __builtin_prefetch(&bvh_[seg[k + kPrefetchAhead].b]);
+                    __builtin_prefetch(&nodes[seg[k + kPrefetchAhead].a]);
+                    __builtin_prefetch(&nodes[seg[k + kPrefetchAhead].b]);
                 }
                 const FrontEntry e = seg[k];
                 ++stats_.bv_tests;
-                const BvhNode& na = bvh_[e.a];
-                const BvhNode& nb = bvh_[e.b];
+                const BvhNode& na = nodes[e.a];
+                const BvhNode& nb = nodes[e.b];
                 const bool overlap = na.box.overlaps(nb.box);
                 if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
                 if (!overlap) {
@@ -359,7 +360,7 @@ class SelfCollideTraversal {
     // may merge and their parent's boxes are apart too, replace them by the parent (which may
     // merge again, with its own sibling).
     void merge_apart_siblings() {
-        std::vector<FrontEntry>& next = part_->entries;
+        FrontEntries& next = part_->entries;
         while (mergeable_run_ >= 2) {
             FrontEntry p;
             if (!BvttFront::parent_of(bvh_, next[next.size() - 2], next.back(), p)) return;
