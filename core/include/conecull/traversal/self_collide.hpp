@@ -255,14 +255,20 @@ class SelfCollideTraversal {
     template <bool kRecord>
     void collide(int32_t a, int32_t b) {
         ++stats_.bv_tests;
-        const BvhNode& na = bvh_[a];
-        const BvhNode& nb = bvh_[b];
-        const bool overlap = na.box.overlaps(nb.box);
+        const bool overlap = bvh_[a].box.overlaps(bvh_[b].box);
         if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(a, b, overlap);
         if (!overlap) {
             if constexpr (kRecord) push_front({a, b}, false);  // its parent overlaps: nothing to merge
             return;
         }
+        collide_overlapping<kRecord>(a, b);
+    }
+
+    // Collide(A, B) once A's and B's boxes are known to overlap: two leaves emit their pairs.
+    template <bool kRecord>
+    void collide_overlapping(int32_t a, int32_t b) {
+        const BvhNode& na = bvh_[a];
+        const BvhNode& nb = bvh_[b];
         if (na.is_leaf() && nb.is_leaf()) {
             emit_leaves(na, nb);
             if constexpr (kRecord) push_front({a, b}, false);
@@ -272,16 +278,39 @@ class SelfCollideTraversal {
     }
 
     // Descend the larger node (the only one that can be descended, if the other is a leaf).
+    // Both children pairs are box-tested before either is entered, so only overlapping pairs
+    // cost a call, and the two tests' loads overlap: the same tests, candidates and front entries
+    // in the same order as Collide on each pair in turn. A traced query keeps that form, so that
+    // its node-pair events come in the recursion's order.
     template <bool kRecord>
     void descend(int32_t a, int32_t b) {
         const BvhNode& na = bvh_[a];
         const BvhNode& nb = bvh_[b];
+        int32_t a1 = a, a2 = a, b1 = b, b2 = b;
         if (nb.is_leaf() || (!na.is_leaf() && na.end - na.begin >= nb.end - nb.begin)) {
-            collide<kRecord>(Bvh::left(a), b);
-            collide<kRecord>(na.right, b);
+            a1 = Bvh::left(a);
+            a2 = na.right;
         } else {
-            collide<kRecord>(a, Bvh::left(b));
-            collide<kRecord>(a, nb.right);
+            b1 = Bvh::left(b);
+            b2 = nb.right;
+        }
+        if constexpr (kTraceHooks<Tracer>) {
+            collide<kRecord>(a1, b1);
+            collide<kRecord>(a2, b2);
+        } else {
+            stats_.bv_tests += 2;
+            const bool first = bvh_[a1].box.overlaps(bvh_[b1].box);
+            const bool second = bvh_[a2].box.overlaps(bvh_[b2].box);
+            if (first) {
+                collide_overlapping<kRecord>(a1, b1);
+            } else if constexpr (kRecord) {
+                push_front({a1, b1}, false);
+            }
+            if (second) {
+                collide_overlapping<kRecord>(a2, b2);
+            } else if constexpr (kRecord) {
+                push_front({a2, b2}, false);
+            }
         }
     }
 
