@@ -351,9 +351,13 @@ void refit_boxes_and_cones_ccd(Bvh& bvh, const Topology& topo, const double* V0,
                                std::vector<NormalCone>& cones, int threads) {
     refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
         const int32_t* t = face(topo, f);
-        b = unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f));
-        c = triangle_cone_ccd(load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, t[0]), load(V1, t[1]),
-                              load(V1, t[2]));
+        const Vec3 p0 = load(V0, t[0]), q0 = load(V0, t[1]), r0 = load(V0, t[2]);
+        const Vec3 p1 = load(V1, t[0]), q1 = load(V1, t[1]), r1 = load(V1, t[2]);
+        b = {{std::min({p0.x, q0.x, r0.x, p1.x, q1.x, r1.x}), std::min({p0.y, q0.y, r0.y, p1.y, q1.y, r1.y}),
+              std::min({p0.z, q0.z, r0.z, p1.z, q1.z, r1.z})},
+             {std::max({p0.x, q0.x, r0.x, p1.x, q1.x, r1.x}), std::max({p0.y, q0.y, r0.y, p1.y, q1.y, r1.y}),
+              std::max({p0.z, q0.z, r0.z, p1.z, q1.z, r1.z})}};
+        c = triangle_cone_ccd(p0, q0, r0, p1, q1, r1);
     }, threads);
 }
 
