@@ -12,11 +12,14 @@ namespace conecull {
 
 namespace {
 
-Aabb triangle_box(const Topology& topo, const double* V, int32_t f) {
-    const int32_t* t = &topo.faces[3 * static_cast<size_t>(f)];
-    const Vec3 a = load(V, t[0]), b = load(V, t[1]), c = load(V, t[2]);
+inline Aabb box_of(const Vec3& a, const Vec3& b, const Vec3& c) {
     return {{std::min({a.x, b.x, c.x}), std::min({a.y, b.y, c.y}), std::min({a.z, b.z, c.z})},
             {std::max({a.x, b.x, c.x}), std::max({a.y, b.y, c.y}), std::max({a.z, b.z, c.z})}};
+}
+
+Aabb triangle_box(const Topology& topo, const double* V, int32_t f) {
+    const int32_t* t = &topo.faces[3 * static_cast<size_t>(f)];
+    return box_of(load(V, t[0]), load(V, t[1]), load(V, t[2]));
 }
 
 Aabb unite(const Aabb& p, const Aabb& q) {
@@ -335,8 +338,7 @@ void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std:
     refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
         const int32_t* t = face(topo, f);
         const Vec3 p = load(V, t[0]), q = load(V, t[1]), r = load(V, t[2]);
-        b = {{std::min({p.x, q.x, r.x}), std::min({p.y, q.y, r.y}), std::min({p.z, q.z, r.z})},
-             {std::max({p.x, q.x, r.x}), std::max({p.y, q.y, r.y}), std::max({p.z, q.z, r.z})}};
+        b = box_of(p, q, r);
         c = triangle_cone(p, q, r);
     }, threads);
 }
@@ -353,10 +355,7 @@ void refit_boxes_and_cones_ccd(Bvh& bvh, const Topology& topo, const double* V0,
         const int32_t* t = face(topo, f);
         const Vec3 p0 = load(V0, t[0]), q0 = load(V0, t[1]), r0 = load(V0, t[2]);
         const Vec3 p1 = load(V1, t[0]), q1 = load(V1, t[1]), r1 = load(V1, t[2]);
-        b = {{std::min({p0.x, q0.x, r0.x, p1.x, q1.x, r1.x}), std::min({p0.y, q0.y, r0.y, p1.y, q1.y, r1.y}),
-              std::min({p0.z, q0.z, r0.z, p1.z, q1.z, r1.z})},
-             {std::max({p0.x, q0.x, r0.x, p1.x, q1.x, r1.x}), std::max({p0.y, q0.y, r0.y, p1.y, q1.y, r1.y}),
-              std::max({p0.z, q0.z, r0.z, p1.z, q1.z, r1.z})}};
+        b = unite(box_of(p0, q0, r0), box_of(p1, q1, r1));
         c = triangle_cone_ccd(p0, q0, r0, p1, q1, r1);
     }, threads);
 }

@@ -47,7 +47,6 @@ class FrontEntries {
     ~FrontEntries() { std::free(data_); }
 
     size_t size() const { return size_; }
-    bool empty() const { return size_ == 0; }
     FrontEntry* data() { return data_; }
     const FrontEntry* data() const { return data_; }
     FrontEntry* begin() { return data_; }

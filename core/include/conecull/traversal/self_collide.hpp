@@ -257,16 +257,17 @@ class SelfCollideTraversal {
         ++stats_.bv_tests;
         const bool overlap = bvh_[a].box.overlaps(bvh_[b].box);
         if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(a, b, overlap);
+        collide_tested<kRecord>(a, b, overlap);
+    }
+
+    // Collide(A, B) once A's and B's boxes are tested: apart, the pair is a front entry (with
+    // kRecord); overlapping, two leaves emit their pairs, else the larger node is descended.
+    template <bool kRecord>
+    void collide_tested(int32_t a, int32_t b, bool overlap) {
         if (!overlap) {
             if constexpr (kRecord) push_front({a, b}, false);  // its parent overlaps: nothing to merge
             return;
         }
-        collide_overlapping<kRecord>(a, b);
-    }
-
-    // Collide(A, B) once A's and B's boxes are known to overlap: two leaves emit their pairs.
-    template <bool kRecord>
-    void collide_overlapping(int32_t a, int32_t b) {
         const BvhNode& na = bvh_[a];
         const BvhNode& nb = bvh_[b];
         if (na.is_leaf() && nb.is_leaf()) {
@@ -301,16 +302,8 @@ class SelfCollideTraversal {
             stats_.bv_tests += 2;
             const bool first = bvh_[a1].box.overlaps(bvh_[b1].box);
             const bool second = bvh_[a2].box.overlaps(bvh_[b2].box);
-            if (first) {
-                collide_overlapping<kRecord>(a1, b1);
-            } else if constexpr (kRecord) {
-                push_front({a1, b1}, false);
-            }
-            if (second) {
-                collide_overlapping<kRecord>(a2, b2);
-            } else if constexpr (kRecord) {
-                push_front({a2, b2}, false);
-            }
+            collide_tested<kRecord>(a1, b1, first);
+            collide_tested<kRecord>(a2, b2, second);
         }
     }
 
