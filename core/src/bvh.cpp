@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 
 namespace conecull {
@@ -258,10 +259,25 @@ namespace {
 // near the root (each a contiguous range of the pre-order) are swept in parallel, then the few
 // nodes above the cut: every node gets the same value from the same children, so the result
 // does not depend on the thread count.
-template <class Node>
-void refit(const Bvh& bvh, const Node& node, int threads) {
+// block(lo, hi), if given, runs before the nodes [lo, hi) of a sweep, blocks of kRefitBlock
+// consecutive nodes taken from the end (what the leaves of a block need, computed together).
+inline constexpr int32_t kRefitBlock = 64;
+struct NoBlock {
+    void operator()(int32_t, int32_t) const {}
+};
+template <class Node, class Block = NoBlock>
+void refit(const Bvh& bvh, const Node& node, int threads, const Block& block = {}) {
     auto sweep = [&](int32_t begin, int32_t end) {  // the nodes [begin, end), children first
-        for (int32_t i = end - 1; i >= begin; --i) node(i);
+        if constexpr (std::is_same_v<Block, NoBlock>) {
+            for (int32_t i = end - 1; i >= begin; --i) node(i);
+        } else {
+            for (int32_t hi = end; hi > begin;) {
+                const int32_t lo = std::max(begin, hi - kRefitBlock);
+                block(lo, hi);
+                for (int32_t i = hi - 1; i >= lo; --i) node(i);
+                hi = lo;
+            }
+        }
     };
     if (threads <= 1 || bvh.size() < 4096) {
         sweep(0, bvh.size());
@@ -333,14 +349,63 @@ void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads) {
     refit_nodes<false>(bvh, nullptr, [&](int32_t f, Aabb& b, NormalCone&) { b = triangle_box(topo, V, f); }, threads);
 }
 
+namespace {
+
+// The leaves' triangles of a block of the sweep, computed together before its nodes (refit's
+// block): boxes, then the cones batched (cones_around). In pre-order the leaves' triangle ranges
+// follow each other, so a block's are the range [k0, k1) of Bvh::order. One per thread.
+struct LeafTriangles {
+    int32_t k0 = 0;
+    std::vector<Aabb> box;
+    std::vector<double> x, y, z, err;
+    std::vector<NormalCone> cone;
+    void compute(const Bvh& bvh, const Topology& topo, const double* V, int32_t lo, int32_t hi) {
+        // Node lo's range starts at the first leaf from lo on, node hi's at the first from hi on.
+        k0 = bvh.nodes[lo].begin;
+        const int32_t k1 = hi < bvh.size() ? bvh.nodes[hi].begin : static_cast<int32_t>(bvh.order.size());
+        const size_t m = static_cast<size_t>(k1 - k0);
+        if (box.size() < m) box.resize(m), x.resize(m), y.resize(m), z.resize(m), err.resize(m), cone.resize(m);
+        for (size_t j = 0; j < m; ++j) {
+            const int32_t* t = face(topo, bvh.order[k0 + j]);
+            const Vec3 p = load(V, t[0]), q = load(V, t[1]), r = load(V, t[2]);
+            box[j] = box_of(p, q, r);
+            const Vec3 n = triangle_normal(p, q, r, err[j]);
+            x[j] = n.x, y[j] = n.y, z[j] = n.z;
+        }
+        cones_around(x.data(), y.data(), z.data(), err.data(), static_cast<int32_t>(m), cone.data());
+    }
+};
+
+}  // namespace
+
 void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
                            int threads) {
-    refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
-        const int32_t* t = face(topo, f);
-        const Vec3 p = load(V, t[0]), q = load(V, t[1]), r = load(V, t[2]);
-        b = box_of(p, q, r);
-        c = triangle_cone(p, q, r);
-    }, threads);
+    cones.resize(bvh.nodes.size());
+    BvhNode* nodes = bvh.nodes.data();
+    NormalCone* cone = cones.data();
+    // Each thread's blocks and nodes run on that thread (refit's sweep), so a thread's own
+    // LeafTriangles holds the block its nodes read.
+    static thread_local LeafTriangles leaves;
+    refit(
+        bvh,
+        [&](int32_t i) {
+            BvhNode& n = nodes[i];
+            if (n.is_leaf()) {
+                // As refit_nodes, in the same order: the same boxes and cones.
+                const int32_t j = n.begin - leaves.k0;
+                n.box = leaves.box[j];
+                NormalCone& c = cone[i];
+                c = leaves.cone[j];
+                for (int32_t k = j + 1; k < n.end - leaves.k0; ++k) {
+                    n.box = unite(n.box, leaves.box[k]);
+                    c = merge(c, leaves.cone[k]);
+                }
+            } else {
+                n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
+                cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
+            }
+        },
+        threads, [&](int32_t lo, int32_t hi) { leaves.compute(bvh, topo, V, lo, hi); });
 }
 
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads) {

@@ -183,3 +183,58 @@ def test_merge_of_nearly_opposite_narrow_cones_keeps_both_bounds():
                 cos_psi, sin_psi = cos_need, sin_need
         assert cb[i] <= cos_psi + 1e-15, (i, cb[i], cos_psi)
         assert sb[i] >= sin_psi - 1e-15, (i, delta[i], sb[i], sin_psi)
+
+
+def _fold_cones_like_the_refit(F, V, bvh):
+    """Every node's cone from the scalar bindings: triangle_cone per triangle, merge_cones in the
+    refit's order (a leaf's triangles in order, an inner node from its left then right child)."""
+    P = V[F]
+    ax, cb, sb = C.triangle_cone(P[:, 0], P[:, 1], P[:, 2])
+    n = len(bvh["begin"])
+    out = [None] * n
+    for i in reversed(range(n)):
+        if bvh["right"][i] < 0:
+            tris = bvh["order"][bvh["begin"][i] : bvh["end"][i]]
+            c = (ax[tris[:1]], cb[tris[:1]], sb[tris[:1]])
+            for t in tris[1:]:
+                c = C.merge_cones(*c, ax[[t]], cb[[t]], sb[[t]])
+        else:
+            c = C.merge_cones(*out[i + 1], *out[bvh["right"][i]])
+        out[i] = c
+    return (np.concatenate([c[k] for c in out]) for k in range(3))
+
+
+@pytest.mark.parametrize("leaf_size", [1, 2, 3])
+@pytest.mark.parametrize("threads", [1, 2])
+def test_refit_cones_equal_the_scalar_cones_bit_for_bit(leaf_size, threads):
+    """The DCD refit computes its leaves' triangle cones in batches (cones_around, two at a time);
+    every node's cone must be bit for bit the one of the scalar triangle_cone and merge, on cones
+    of every kind: zero-area triangles (full), slivers whose normal is not resolved (r >= 1/2:
+    full), normals with components below the flush threshold (set to 0), and ordinary ones; on a
+    mesh large enough for the parallel refit."""
+    F, V = wavy_sheet(60, 0.2, 0.01, 4)
+    V = V.copy()
+    rng = np.random.default_rng(1)
+    picks = rng.choice(len(F), 60, replace=False)
+    for f in picks[:20]:  # zero area: c on a
+        a, b, c = F[f]
+        V[c] = V[a]
+    for f in picks[20:40]:  # slivers: c within a few ulps of the midpoint of a and b
+        a, b, c = F[f]
+        mid = 0.5 * (V[a] + V[b])
+        V[c] = mid + rng.integers(-2, 3, 3) * np.spacing(np.abs(mid).max())
+    for f in picks[40:]:  # a normal along z up to 1e-20 (x and y components flushed to 0)
+        a, b, c = F[f]
+        V[b] = V[a] + [1.0, 0.0, 1e-20]
+        V[c] = V[a] + [0.0, 1.0, 0.0]
+    col = conecull.SelfCollider(conecull.Mesh(F), method="nc", leaf_size=leaf_size, threads=threads)
+    col.dcd(V)
+    bvh, cones = col.bvh_arrays(), col.cone_arrays()
+    assert len(bvh["begin"]) >= 4096  # the parallel refit's threshold
+    ax, cb, sb = _fold_cones_like_the_refit(F, V, bvh)
+    assert cones["axis"].tobytes() == ax.tobytes()
+    assert cones["cos_bound"].tobytes() == cb.tobytes()
+    assert cones["sin_bound"].tobytes() == sb.tobytes()
+    P = V[F]
+    tax, tcb, _ = C.triangle_cone(P[:, 0], P[:, 1], P[:, 2])
+    assert (tcb <= 0).sum() >= 30 and ((tax[:, :2] == 0).all(axis=1) & (tcb > 0)).sum() >= 20  # the kinds occurred
