@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <type_traits>
 #include <utility>
 
 namespace conecull {
@@ -259,26 +258,9 @@ namespace {
 // near the root (each a contiguous range of the pre-order) are swept in parallel, then the few
 // nodes above the cut: every node gets the same value from the same children, so the result
 // does not depend on the thread count.
-// block(lo, hi), if given, runs before the nodes [lo, hi) of a sweep, blocks of kRefitBlock
-// consecutive nodes taken from the end (what the leaves of a block need, computed together).
-inline constexpr int32_t kRefitBlock = 64;
-struct NoBlock {
-    void operator()(int32_t, int32_t) const {}
-};
-template <class Node, class Block = NoBlock>
-void refit(const Bvh& bvh, const Node& node, int threads, const Block& block = {}) {
-    auto sweep = [&](int32_t begin, int32_t end) {  // the nodes [begin, end), children first
-        if constexpr (std::is_same_v<Block, NoBlock>) {
-            for (int32_t i = end - 1; i >= begin; --i) node(i);
-        } else {
-            for (int32_t hi = end; hi > begin;) {
-                const int32_t lo = std::max(begin, hi - kRefitBlock);
-                block(lo, hi);
-                for (int32_t i = hi - 1; i >= lo; --i) node(i);
-                hi = lo;
-            }
-        }
-    };
+// sweep(begin, end) refits the nodes [begin, end), children first; node(i) one inner node.
+template <class Sweep, class Node>
+void refit_with(const Bvh& bvh, const Sweep& sweep, const Node& node, int threads) {
     if (threads <= 1 || bvh.size() < 4096) {
         sweep(0, bvh.size());
         return;
@@ -306,7 +288,12 @@ void refit(const Bvh& bvh, const Node& node, int threads, const Block& block = {
     }
     parallel_chunks(static_cast<int64_t>(cut.size()), threads, [&](int64_t k, int) { sweep(cut[k].first, cut[k].second); });
     std::sort(above.begin(), above.end());
-    for (auto it = above.rbegin(); it != above.rend(); ++it) node(*it);
+    for (auto it = above.rbegin(); it != above.rend(); ++it) node(*it);  // inner nodes only
+}
+
+template <class Node>
+void refit(const Bvh& bvh, const Node& node, int threads) {
+    refit_with(bvh, [&](int32_t begin, int32_t end) { for (int32_t i = end - 1; i >= begin; --i) node(i); }, node, threads);
 }
 
 const int32_t* face(const Topology& topo, int32_t f) { return &topo.faces[3 * static_cast<size_t>(f)]; }
@@ -351,9 +338,10 @@ void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads) {
 
 namespace {
 
-// The leaves' triangles of a block of the sweep, computed together before its nodes (refit's
-// block): boxes, then the cones batched (cones_around). In pre-order the leaves' triangle ranges
-// follow each other, so a block's are the range [k0, k1) of Bvh::order. One per thread.
+// The triangles of the leaves among a block of nodes [lo, hi) of the DCD refit's sweep, computed
+// together before the block's nodes: boxes, then the cones batched (cones_around). In pre-order
+// the leaves' triangle ranges follow each other, so a block's are the range [k0, k1) of
+// Bvh::order. One per thread.
 struct LeafTriangles {
     int32_t k0 = 0;
     std::vector<Aabb> box;
@@ -376,6 +364,14 @@ struct LeafTriangles {
     }
 };
 
+// This thread's (each refit sweep runs on one thread).
+LeafTriangles& thread_leaf_triangles() {
+    static thread_local LeafTriangles t;
+    return t;
+}
+
+inline constexpr int32_t kRefitBlock = 64;  // nodes per block of the DCD refit's sweep
+
 }  // namespace
 
 void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
@@ -383,15 +379,24 @@ void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std:
     cones.resize(bvh.nodes.size());
     BvhNode* nodes = bvh.nodes.data();
     NormalCone* cone = cones.data();
-    // Each thread's blocks and nodes run on that thread (refit's sweep), so a thread's own
-    // LeafTriangles holds the block its nodes read.
-    static thread_local LeafTriangles leaves;
-    refit(
-        bvh,
-        [&](int32_t i) {
-            BvhNode& n = nodes[i];
-            if (n.is_leaf()) {
-                // As refit_nodes, in the same order: the same boxes and cones.
+    const auto inner = [&](int32_t i) {
+        BvhNode& n = nodes[i];
+        n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
+        cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
+    };
+    // In blocks of kRefitBlock nodes from the end: the block's leaf triangles first, then its
+    // nodes; a leaf as refit_nodes builds it, in the same order (the same boxes and cones).
+    const auto sweep = [&](int32_t begin, int32_t end) {
+        LeafTriangles& leaves = thread_leaf_triangles();  // once per sweep: a TLS lookup
+        for (int32_t hi = end; hi > begin;) {
+            const int32_t lo = std::max(begin, hi - kRefitBlock);
+            leaves.compute(bvh, topo, V, lo, hi);
+            for (int32_t i = hi - 1; i >= lo; --i) {
+                BvhNode& n = nodes[i];
+                if (!n.is_leaf()) {
+                    inner(i);
+                    continue;
+                }
                 const int32_t j = n.begin - leaves.k0;
                 n.box = leaves.box[j];
                 NormalCone& c = cone[i];
@@ -400,12 +405,11 @@ void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std:
                     n.box = unite(n.box, leaves.box[k]);
                     c = merge(c, leaves.cone[k]);
                 }
-            } else {
-                n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
-                cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
             }
-        },
-        threads, [&](int32_t lo, int32_t hi) { leaves.compute(bvh, topo, V, lo, hi); });
+            hi = lo;
+        }
+    };
+    refit_with(bvh, sweep, inner, threads);
 }
 
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads) {
