@@ -298,34 +298,19 @@ void refit(const Bvh& bvh, const Node& node, int threads) {
 
 const int32_t* face(const Topology& topo, int32_t f) { return &topo.faces[3 * static_cast<size_t>(f)]; }
 
-// Boxes written in place into the nodes (no copy, no per-query buffer), and with cones the two
-// in one sweep: one parallel region, each triangle's vertices loaded once.
-// leaf(f, box, cone) gives triangle f's box (and cone if kCones).
-template <bool kCones, class Leaf>
-void refit_nodes(Bvh& bvh, std::vector<NormalCone>* cones, const Leaf& leaf, int threads) {
-    if constexpr (kCones) cones->resize(bvh.nodes.size());
+// Boxes only, written in place into the nodes (no copy, no per-query buffer); leaf_box(f) is
+// triangle f's box. (With cones: refit_in_blocks, below.)
+template <class LeafBox>
+void refit_box_nodes(Bvh& bvh, const LeafBox& leaf_box, int threads) {
     BvhNode* nodes = bvh.nodes.data();
     const int32_t* order = bvh.order.data();
-    NormalCone* cone = kCones ? cones->data() : nullptr;
     refit(bvh, [&](int32_t i) {
         BvhNode& n = nodes[i];
         if (n.is_leaf()) {
-            // The leaf's cone built in place: a copy from the stack was compiled to 16-byte loads
-            // of bytes just stored 8 at a time, a store-forwarding stall (7.5% of the refit's
-            // samples in a perf profile).
-            NormalCone unused;
-            NormalCone& c = kCones ? cone[i] : unused;
-            leaf(order[n.begin], n.box, c);
-            for (int32_t k = n.begin + 1; k < n.end; ++k) {
-                Aabb b;
-                NormalCone ck;
-                leaf(order[k], b, ck);
-                n.box = unite(n.box, b);
-                if constexpr (kCones) c = merge(c, ck);
-            }
+            n.box = leaf_box(order[n.begin]);
+            for (int32_t k = n.begin + 1; k < n.end; ++k) n.box = unite(n.box, leaf_box(order[k]));
         } else {
             n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
-            if constexpr (kCones) cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
         }
     }, threads);
 }
@@ -333,34 +318,61 @@ void refit_nodes(Bvh& bvh, std::vector<NormalCone>* cones, const Leaf& leaf, int
 }  // namespace
 
 void refit_boxes(Bvh& bvh, const Topology& topo, const double* V, int threads) {
-    refit_nodes<false>(bvh, nullptr, [&](int32_t f, Aabb& b, NormalCone&) { b = triangle_box(topo, V, f); }, threads);
+    refit_box_nodes(bvh, [&](int32_t f) { return triangle_box(topo, V, f); }, threads);
 }
 
 namespace {
 
-// The triangles of the leaves among a block of nodes [lo, hi) of the DCD refit's sweep, computed
+// The triangles of the leaves among a block of nodes [lo, hi) of a refit with cones, computed
 // together before the block's nodes: boxes, then the cones batched (cones_around). In pre-order
 // the leaves' triangle ranges follow each other, so a block's are the range [k0, k1) of
 // Bvh::order. One per thread.
 struct LeafTriangles {
     int32_t k0 = 0;
     std::vector<Aabb> box;
-    std::vector<double> x, y, z, err;
-    std::vector<NormalCone> cone;
-    void compute(const Bvh& bvh, const Topology& topo, const double* V, int32_t lo, int32_t hi) {
+    std::vector<double> x, y, z, err;   // rounded normals (CCD: control vectors, three per triangle)
+    std::vector<NormalCone> cone, control;
+
+    // The block's triangle count; k0 set, the buffers large enough.
+    size_t range(const Bvh& bvh, int32_t lo, int32_t hi) {
         // Node lo's range starts at the first leaf from lo on, node hi's at the first from hi on.
         k0 = bvh.nodes[lo].begin;
         const int32_t k1 = hi < bvh.size() ? bvh.nodes[hi].begin : static_cast<int32_t>(bvh.order.size());
         const size_t m = static_cast<size_t>(k1 - k0);
-        if (box.size() < m) box.resize(m), x.resize(m), y.resize(m), z.resize(m), err.resize(m), cone.resize(m);
+        if (box.size() < m) {
+            box.resize(m), cone.resize(m), control.resize(3 * m);
+            x.resize(3 * m), y.resize(3 * m), z.resize(3 * m), err.resize(3 * m);
+        }
+        return m;
+    }
+    void put(size_t j, const Vec3& n) { x[j] = n.x, y[j] = n.y, z[j] = n.z; }
+
+    // DCD: each triangle's box and cone (triangle_cone).
+    void compute(const Bvh& bvh, const Topology& topo, const double* V, int32_t lo, int32_t hi) {
+        const size_t m = range(bvh, lo, hi);
         for (size_t j = 0; j < m; ++j) {
             const int32_t* t = face(topo, bvh.order[k0 + j]);
             const Vec3 p = load(V, t[0]), q = load(V, t[1]), r = load(V, t[2]);
             box[j] = box_of(p, q, r);
-            const Vec3 n = triangle_normal(p, q, r, err[j]);
-            x[j] = n.x, y[j] = n.y, z[j] = n.z;
+            put(j, triangle_normal(p, q, r, err[j]));
         }
         cones_around(x.data(), y.data(), z.data(), err.data(), static_cast<int32_t>(m), cone.data());
+    }
+    // CCD: each triangle's swept box and CCD cone (triangle_cone_ccd), each triangle's six vertices
+    // loaded once for both.
+    void compute(const Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int32_t lo, int32_t hi) {
+        const size_t m = range(bvh, lo, hi);
+        for (size_t j = 0; j < m; ++j) {
+            const int32_t* t = face(topo, bvh.order[k0 + j]);
+            const Vec3 p0 = load(V0, t[0]), q0 = load(V0, t[1]), r0 = load(V0, t[2]);
+            const Vec3 p1 = load(V1, t[0]), q1 = load(V1, t[1]), r1 = load(V1, t[2]);
+            box[j] = unite(box_of(p0, q0, r0), box_of(p1, q1, r1));
+            Vec3 n[3];
+            control_vectors(p0, q0, r0, p1, q1, r1, n, &err[3 * j]);
+            put(3 * j, n[0]), put(3 * j + 1, n[1]), put(3 * j + 2, n[2]);
+        }
+        cones_around(x.data(), y.data(), z.data(), err.data(), static_cast<int32_t>(3 * m), control.data());
+        for (size_t j = 0; j < m; ++j) cone[j] = ccd_cone_of(&control[3 * j]);
     }
 };
 
@@ -370,12 +382,14 @@ LeafTriangles& thread_leaf_triangles() {
     return t;
 }
 
-inline constexpr int32_t kRefitBlock = 64;  // nodes per block of the DCD refit's sweep
+inline constexpr int32_t kRefitBlock = 64;  // nodes per block of a refit with cones
 
-}  // namespace
-
-void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
-                           int threads) {
+// A refit with cones in blocks of kRefitBlock nodes from the end: compute(leaves, lo, hi) the
+// block's leaf triangles first, then its nodes. A leaf's box and cone are built in place, from its
+// triangles' in leaf order (a copy from the stack was compiled to 16-byte loads of bytes just
+// stored 8 at a time, a store-forwarding stall: 7.5% of the refit's samples in a perf profile).
+template <class Compute>
+void refit_in_blocks(Bvh& bvh, std::vector<NormalCone>& cones, const Compute& compute, int threads) {
     cones.resize(bvh.nodes.size());
     BvhNode* nodes = bvh.nodes.data();
     NormalCone* cone = cones.data();
@@ -384,13 +398,11 @@ void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std:
         n.box = unite(nodes[Bvh::left(i)].box, nodes[n.right].box);
         cone[i] = merge(cone[Bvh::left(i)], cone[n.right]);
     };
-    // In blocks of kRefitBlock nodes from the end: the block's leaf triangles first, then its
-    // nodes; a leaf as refit_nodes builds it, in the same order (the same boxes and cones).
     const auto sweep = [&](int32_t begin, int32_t end) {
         LeafTriangles& leaves = thread_leaf_triangles();  // once per sweep: a TLS lookup
         for (int32_t hi = end; hi > begin;) {
             const int32_t lo = std::max(begin, hi - kRefitBlock);
-            leaves.compute(bvh, topo, V, lo, hi);
+            compute(leaves, lo, hi);
             for (int32_t i = hi - 1; i >= lo; --i) {
                 BvhNode& n = nodes[i];
                 if (!n.is_leaf()) {
@@ -412,21 +424,22 @@ void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std:
     refit_with(bvh, sweep, inner, threads);
 }
 
+}  // namespace
+
+void refit_boxes_and_cones(Bvh& bvh, const Topology& topo, const double* V, std::vector<NormalCone>& cones,
+                           int threads) {
+    refit_in_blocks(bvh, cones, [&](LeafTriangles& t, int32_t lo, int32_t hi) { t.compute(bvh, topo, V, lo, hi); },
+                    threads);
+}
+
 void refit_boxes_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1, int threads) {
-    refit_nodes<false>(bvh, nullptr, [&](int32_t f, Aabb& b, NormalCone&) {
-        b = unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f));
-    }, threads);
+    refit_box_nodes(bvh, [&](int32_t f) { return unite(triangle_box(topo, V0, f), triangle_box(topo, V1, f)); }, threads);
 }
 
 void refit_boxes_and_cones_ccd(Bvh& bvh, const Topology& topo, const double* V0, const double* V1,
                                std::vector<NormalCone>& cones, int threads) {
-    refit_nodes<true>(bvh, &cones, [&](int32_t f, Aabb& b, NormalCone& c) {
-        const int32_t* t = face(topo, f);
-        const Vec3 p0 = load(V0, t[0]), q0 = load(V0, t[1]), r0 = load(V0, t[2]);
-        const Vec3 p1 = load(V1, t[0]), q1 = load(V1, t[1]), r1 = load(V1, t[2]);
-        b = unite(box_of(p0, q0, r0), box_of(p1, q1, r1));
-        c = triangle_cone_ccd(p0, q0, r0, p1, q1, r1);
-    }, threads);
+    refit_in_blocks(
+        bvh, cones, [&](LeafTriangles& t, int32_t lo, int32_t hi) { t.compute(bvh, topo, V0, V1, lo, hi); }, threads);
 }
 
 }  // namespace conecull

@@ -10,6 +10,7 @@ import pytest
 
 import conecull
 import exact_twin as ex
+from conecull._core import ccd as CC
 from conecull._core import cone as C
 from meshgen_basic import random_meshes, wavy_sheet
 
@@ -185,11 +186,11 @@ def test_merge_of_nearly_opposite_narrow_cones_keeps_both_bounds():
         assert sb[i] >= sin_psi - 1e-15, (i, delta[i], sb[i], sin_psi)
 
 
-def _fold_cones_like_the_refit(F, V, bvh):
-    """Every node's cone from the scalar bindings: triangle_cone per triangle, merge_cones in the
-    refit's order (a leaf's triangles in order, an inner node from its left then right child)."""
-    P = V[F]
-    ax, cb, sb = C.triangle_cone(P[:, 0], P[:, 1], P[:, 2])
+def _fold_cones_like_the_refit(triangle_cones, bvh):
+    """Every node's cone from the scalar bindings: the triangles' cones (axis, cos, sin) merged by
+    merge_cones in the refit's order (a leaf's triangles in order, an inner node from its left then
+    right child)."""
+    ax, cb, sb = triangle_cones
     n = len(bvh["begin"])
     out = [None] * n
     for i in reversed(range(n)):
@@ -204,14 +205,16 @@ def _fold_cones_like_the_refit(F, V, bvh):
     return (np.concatenate([c[k] for c in out]) for k in range(3))
 
 
+@pytest.mark.parametrize("query", ["dcd", "ccd"])
 @pytest.mark.parametrize("leaf_size", [1, 2, 3])
 @pytest.mark.parametrize("threads", [1, 2])
-def test_refit_cones_equal_the_scalar_cones_bit_for_bit(leaf_size, threads):
-    """The DCD refit computes its leaves' triangle cones in batches (cones_around, two at a time);
-    every node's cone must be bit for bit the one of the scalar triangle_cone and merge, on cones
-    of every kind: zero-area triangles (full), slivers whose normal is not resolved (r >= 1/2:
-    full), normals with components below the flush threshold (set to 0), and ordinary ones; on a
-    mesh large enough for the parallel refit."""
+def test_refit_cones_equal_the_scalar_cones_bit_for_bit(query, leaf_size, threads):
+    """The refits with cones compute their leaves' triangle cones in batches (cones_around, two at
+    a time; CCD: the control vectors' cones); every node's cone must be bit for bit the one of the
+    scalar triangle_cone (triangle_cone_ccd) and merge, on cones of every kind: zero-area
+    triangles (full), slivers whose normal is not resolved (r >= 1/2: full), normals with
+    components below the flush threshold (set to 0), and ordinary ones; on a mesh large enough for
+    the parallel refit."""
     F, V = wavy_sheet(60, 0.2, 0.01, 4)
     V = V.copy()
     rng = np.random.default_rng(1)
@@ -228,13 +231,21 @@ def test_refit_cones_equal_the_scalar_cones_bit_for_bit(leaf_size, threads):
         V[b] = V[a] + [1.0, 0.0, 1e-20]
         V[c] = V[a] + [0.0, 1.0, 0.0]
     col = conecull.SelfCollider(conecull.Mesh(F), method="nc", leaf_size=leaf_size, threads=threads)
-    col.dcd(V)
-    bvh, cones = col.bvh_arrays(), col.cone_arrays()
-    assert len(bvh["begin"]) >= 4096  # the parallel refit's threshold
-    ax, cb, sb = _fold_cones_like_the_refit(F, V, bvh)
-    assert cones["axis"].tobytes() == ax.tobytes()
-    assert cones["cos_bound"].tobytes() == cb.tobytes()
-    assert cones["sin_bound"].tobytes() == sb.tobytes()
     P = V[F]
-    tax, tcb, _ = C.triangle_cone(P[:, 0], P[:, 1], P[:, 2])
+    tri = C.triangle_cone(P[:, 0], P[:, 1], P[:, 2])
+    if query == "dcd":
+        col.dcd(V)
+        cones = tri
+    else:  # a translation keeps the special triangles special at both ends
+        V1 = V + [0.01, -0.02, 0.005]
+        col.ccd(V, V1)
+        Q = V1[F]
+        cones = CC.triangle_cone_ccd(P[:, 0], P[:, 1], P[:, 2], Q[:, 0], Q[:, 1], Q[:, 2])
+    bvh, got = col.bvh_arrays(), col.cone_arrays()
+    assert len(bvh["begin"]) >= 4096  # the parallel refit's threshold
+    ax, cb, sb = _fold_cones_like_the_refit(cones, bvh)
+    assert got["axis"].tobytes() == ax.tobytes()
+    assert got["cos_bound"].tobytes() == cb.tobytes()
+    assert got["sin_bound"].tobytes() == sb.tobytes()
+    tax, tcb, _ = tri
     assert (tcb <= 0).sum() >= 30 and ((tax[:, :2] == 0).all(axis=1) & (tcb > 0)).sum() >= 20  # the kinds occurred
