@@ -252,13 +252,13 @@ Bvh build_bvh(const Topology& topo, const double* V, int32_t leaf_size) {
 
 namespace {
 
-// Bottom-up refit shared by boxes and cones, DCD and CCD: node(i) computes node i, a leaf from
-// its triangles (in leaf order), an inner node from its two children. Children follow their
-// parent in pre-order, so one reverse sweep suffices. With threads, the subtrees below a cut
-// near the root (each a contiguous range of the pre-order) are swept in parallel, then the few
-// nodes above the cut: every node gets the same value from the same children, so the result
+// Bottom-up refit shared by boxes and cones, DCD and CCD: sweep(begin, end) refits the nodes
+// [begin, end), children first (a leaf from its triangles in leaf order, an inner node from its
+// two children), node(i) the inner node i. Children follow their parent in pre-order, so one
+// reverse sweep suffices. With threads, the subtrees below a cut near the root (each a
+// contiguous range of the pre-order) are swept in parallel, then the few nodes above the cut
+// (inner ones) by node: every node gets the same value from the same children, so the result
 // does not depend on the thread count.
-// sweep(begin, end) refits the nodes [begin, end), children first; node(i) one inner node.
 template <class Sweep, class Node>
 void refit_with(const Bvh& bvh, const Sweep& sweep, const Node& node, int threads) {
     if (threads <= 1 || bvh.size() < 4096) {
@@ -288,9 +288,10 @@ void refit_with(const Bvh& bvh, const Sweep& sweep, const Node& node, int thread
     }
     parallel_chunks(static_cast<int64_t>(cut.size()), threads, [&](int64_t k, int) { sweep(cut[k].first, cut[k].second); });
     std::sort(above.begin(), above.end());
-    for (auto it = above.rbegin(); it != above.rend(); ++it) node(*it);  // inner nodes only
+    for (auto it = above.rbegin(); it != above.rend(); ++it) node(*it);
 }
 
+// The plain sweep: node(i) refits any node i.
 template <class Node>
 void refit(const Bvh& bvh, const Node& node, int threads) {
     refit_with(bvh, [&](int32_t begin, int32_t end) { for (int32_t i = end - 1; i >= begin; --i) node(i); }, node, threads);

@@ -21,13 +21,7 @@ namespace conecull {
 inline Vec3 control_vector(const Vec3* u, const Vec3* w, int terms, double& err) {
     Vec3 n;
     double abs_products = 0.0;
-    for (int k = 0; k < terms; ++k) {
-        const double m1 = u[k].y * w[k].z, m2 = u[k].z * w[k].y;
-        const double m3 = u[k].z * w[k].x, m4 = u[k].x * w[k].z;
-        const double m5 = u[k].x * w[k].y, m6 = u[k].y * w[k].x;
-        n = n + Vec3{m1 - m2, m3 - m4, m5 - m6};
-        abs_products += std::fabs(m1) + std::fabs(m2) + std::fabs(m3) + std::fabs(m4) + std::fabs(m5) + std::fabs(m6);
-    }
+    for (int k = 0; k < terms; ++k) n = n + rounded_cross(u[k], w[k], abs_products);
     // Per cross product the error is below 9 eps of its absolute products (triangle_cone);
     // summing up to two of them adds eps of the same; 12 eps keeps a margin. Scaling by 1/2 is
     // exact and does not change the direction, so it is skipped.

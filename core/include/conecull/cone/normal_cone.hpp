@@ -72,17 +72,25 @@ inline NormalCone cone_around(const Vec3& n, double err) {
     return cone;
 }
 
+// fl(u x w), each component the rounded difference of two rounded products m - m'; adds the sum
+// of the six |m| to abs_products (the scale of its rounding error).
+inline Vec3 rounded_cross(const Vec3& u, const Vec3& w, double& abs_products) {
+    const double m1 = u.y * w.z, m2 = u.z * w.y;
+    const double m3 = u.z * w.x, m4 = u.x * w.z;
+    const double m5 = u.x * w.y, m6 = u.y * w.x;
+    abs_products += std::fabs(m1) + std::fabs(m2) + std::fabs(m3) + std::fabs(m4) + std::fabs(m5) + std::fabs(m6);
+    return {m1 - m2, m3 - m4, m5 - m6};
+}
+
 // A triangle's rounded normal n = fl((b - a) x (c - a)) and the bound err on its rounding error:
 // |fl(n_i) - n_i| <= (4 eps + O(eps^2)) (|m| + |m'|), two rounded differences, one rounded product
 // and one rounded subtraction per term. 9 eps leaves a factor > 2 for the roundings of this bound
 // and of r in cone_around; the L1 norm bounds the L2 norm of the error.
 inline Vec3 triangle_normal(const Vec3& a, const Vec3& b, const Vec3& c, double& err) {
-    const Vec3 e1 = b - a, e2 = c - a;
-    const double m1 = e1.y * e2.z, m2 = e1.z * e2.y;
-    const double m3 = e1.z * e2.x, m4 = e1.x * e2.z;
-    const double m5 = e1.x * e2.y, m6 = e1.y * e2.x;
-    err = 9.0 * kEps * (std::fabs(m1) + std::fabs(m2) + std::fabs(m3) + std::fabs(m4) + std::fabs(m5) + std::fabs(m6));
-    return {m1 - m2, m3 - m4, m5 - m6};
+    double abs_products = 0.0;
+    const Vec3 n = rounded_cross(b - a, c - a, abs_products);
+    err = 9.0 * kEps * abs_products;
+    return n;
 }
 
 // Cone of one triangle: around its rounded normal, widened by the rounding error bound of
