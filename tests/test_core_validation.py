@@ -138,3 +138,28 @@ def test_range_check_agrees_with_the_rule_at_its_edges():
         else:
             with pytest.raises(ValueError, match=rf"^V: .* at row {r}, column {c}"):
                 core.contour.simplicity_test(np.arange(3, dtype=np.int32), a, np.array([0.0, 0.0, 1.0]))
+
+
+@pytest.mark.parametrize("threads", [1, 2, 3])
+def test_query_inputs_are_checked_in_chunks_on_several_threads(threads):
+    """A query scans its positions on its threads, in chunks of 16K values (common.hpp,
+    require_points): on a mesh of 40K values (three chunks), a bad value in the first, middle or
+    last chunk, or two of them, is found and named (the first in row order) as on one thread, for
+    V (DCD) and for V0 and V1 (CCD)."""
+    n = 40000 // 3 + 1
+    faces = np.array([[i, i + 1, i + 2] for i in range(0, n - 2, 3)], np.int32)
+    big = core.build_topology(faces, n)
+    V = np.random.default_rng(3).uniform(-1.0, 1.0, (n, 3))
+    for rows in ([0], [n // 2], [n - 1], [n // 2, n - 1], [5, n - 1]):
+        for value, text in BAD[:1] + BAD[3:4]:
+            a = V.copy()
+            for r in rows:
+                a[r, 2] = value
+            where = rf"at row {rows[0]}, column 2"
+            with pytest.raises(ValueError, match=rf"^V: {text} {where}"):
+                core.SelfCollider(big, "nc", 2, threads).dcd(a, False, threads)
+            with pytest.raises(ValueError, match=rf"^V0: {text} {where}"):
+                core.SelfCollider(big, "nc", 2, threads).ccd(a, V, "exact", False, False, threads)
+            with pytest.raises(ValueError, match=rf"^V1: {text} {where}"):
+                core.SelfCollider(big, "nc", 2, threads).ccd(V, a, "exact", False, False, threads)
+    core.SelfCollider(big, "nc", 2, threads).dcd(V, False, threads)  # and good input passes

@@ -113,6 +113,11 @@ void prewake(const PyCollider& self, bool trace, int threads) {
     if (!trace) ThreadPool::instance().prewake(threads > 0 ? threads : self.collider.threads());
 }
 
+// The query's thread count, for its input checks (require_points).
+int query_threads(const PyCollider& self, bool trace, int threads) {
+    return trace ? 1 : resolve_threads(threads > 0 ? threads : self.collider.threads());
+}
+
 Arithmetic parse_arithmetic(const std::string& s) {
     if (s == "float") return Arithmetic::kFloat;
     if (s == "conservative") return Arithmetic::kConservative;
@@ -164,7 +169,7 @@ void bind_collider(py::module_& m) {
             [](PyCollider& self, const F64Array& V, bool trace, int threads, bool stop_at_first) {
                 check_threads(threads);
                 prewake(self, trace, threads);
-                require_points(V, "V", self.collider.topology().n_vertices, 3);
+                require_points(V, "V", self.collider.topology().n_vertices, 3, query_threads(self, trace, threads));
                 DcdResult res;
                 RecordingTracer tracer;
                 without_gil([&] {
@@ -191,8 +196,8 @@ void bind_collider(py::module_& m) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
                 prewake(self, trace, threads);
-                require_points(V0, "V0", n, 3);
-                require_points(V1, "V1", n, 3);
+                require_points(V0, "V0", n, 3, query_threads(self, trace, threads));
+                require_points(V1, "V1", n, 3, query_threads(self, trace, threads));
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
                 RecordingTracer tracer;
