@@ -4,10 +4,11 @@
 // Alg. 2 is a depth-first recursion whose output is the concatenation of its children's:
 // SelfCollide(N) = SelfCollide(L) + SelfCollide(R) + Collide(L, R), and Collide(A, B) likewise
 // over the two halves of the larger node. So the top of the BVTT is expanded, in place, into an
-// ordered list of independent tasks (each step doing the cone / box test
-// the recursion would do there), until there are enough to keep every thread busy; the tasks
-// then run on any thread, each into its own buffer, and the buffers are concatenated in task
-// order. Counters are sums, kept per worker and added up.
+// ordered list of independent tasks (each step doing the cone / box test the recursion would do
+// there), until there are enough to keep every thread busy; the tasks then run on any thread,
+// each into its own buffer, and the buffers are concatenated in task order. Counters are sums,
+// kept per worker and added up. Every test is made once, in the expansion or in a task, so the
+// candidates, the front and the counters do not depend on where the list stops.
 //
 // Alg. 4 (and the conventional front) has the same shape with FrontTracking(Front_N) in place
 // of Collide(L, R): it reads only Front_N of the previous query and writes only the new Front_N,
@@ -109,13 +110,14 @@ void expand_levels(Traversal&& traversal, size_t enough, std::vector<BvttTask>& 
     }
 }
 
-// The top of the BVTT expanded into an ordered list of tasks in s.tasks; the tests of the
-// expansion are counted in s.stats (one per worker). Either list depends on `enough` only, never
+// Two ways to expand the top of the BVTT into an ordered list of tasks in s.tasks, the tests of
+// the expansion counted in s.stats (one per worker); either list depends on `enough` only, never
 // on the thread count.
-
-// Level by level over the whole list until it holds at least `enough` tasks (or every task is at
-// the leaves), each level a parallel region: every task of the list is as deep as the others, as
-// the first-hit order wants (first_hit_order sorts the tasks by depth).
+//
+// expand_tasks_by_levels, for the first-hit traversal: level by level over the whole list until it
+// holds at least `enough` tasks (or every task is at the leaves), each level a parallel region.
+// Every task of the list is then as deep as the others, as the first-hit order wants
+// (first_hit_order sorts the tasks by depth).
 template <class Make>
 void expand_tasks_by_levels(int threads, const Make& make, size_t enough, ParallelTraversalScratch& s) {
     std::vector<TrianglePair> none;  // the expansion emits no candidates
@@ -138,12 +140,13 @@ void expand_tasks_by_levels(int threads, const Make& make, size_t enough, Parall
     }
 }
 
-// Serially until kSeedTasks tasks (the first levels: a few tests), then each of these seeds on its
-// own, in parallel, level by level to its share of `enough`; concatenated in seed order. Why, for
-// the full traversal: level by level over the whole list, each level is a parallel region that ends
-// when its slowest task does, and a level's cost is mostly one long contour test (a large node's):
-// two threads took 0.105-0.115 ms for what one took in 0.125-0.134, and this 0.055-0.08 (the 64K
-// fold, nc, to ~128 tasks; a throw-away timed build).
+// expand_tasks, for the full traversal: serially until kSeedTasks tasks (the first levels: a few
+// tests), then each of these seeds on its own, in parallel, level by level to its share of
+// `enough`; concatenated in seed order. Why: level by level over the whole list, each level is a
+// parallel region that ends when its slowest task does, and a level's cost is mostly one long
+// contour test (a large node's). On the 64K fold (nc, to ~128 tasks; a throw-away timed build,
+// medians of 40 queries) two threads took 0.104-0.116 ms by levels, 0.123-0.134 with the regions
+// on one thread, and 0.076 ms by seeds.
 inline constexpr size_t kSeedTasks = 4;
 template <class Make>
 void expand_tasks(int threads, const Make& make, size_t enough, ParallelTraversalScratch& s) {
