@@ -196,8 +196,9 @@ void bind_collider(py::module_& m) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
                 prewake(self, trace, threads);
-                require_points(V0, "V0", n, 3, query_threads(self, trace, threads));
-                require_points(V1, "V1", n, 3, query_threads(self, trace, threads));
+                const int checks = query_threads(self, trace, threads);
+                require_points(V0, "V0", n, 3, checks);
+                require_points(V1, "V1", n, 3, checks);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
                 RecordingTracer tracer;

@@ -98,17 +98,37 @@ inline uint32_t out_of_coordinate_range(double x) {
     return !(((hi | lo) == 0) | (hi - 0x37f00000u < 0x10000000u) | ((hi == 0x47f00000u) & (lo == 0)));
 }
 
+// 1 if any of v[b, e) is out of the coordinate range (out_of_coordinate_range, vectorised).
+inline uint32_t any_out_of_coordinate_range(const double* v, int64_t b, int64_t e) {
+    uint32_t out = 0;
+    for (int64_t i = b; i < e; ++i) out |= out_of_coordinate_range(v[i]);
+    return out;
+}
+
 // Raises ValueError, naming the argument and the entry (row and column of a 2D array), unless
 // every value of `a` is finite and, if not zero, of magnitude in [2^-128, 2^128]: the range in
 // which the exact predicates cannot overflow or underflow (the same rule and messages as
-// the public API, which leaves the check to this one).
-inline void require_coordinates(const F64Array& a, const char* name) {
+// the public API, which leaves the check to this one). With threads > 1 (a query's, parallel.hpp)
+// the scan runs in chunks of 16K values on them; the first value out of range is then found
+// serially. Why: a query's positions are mostly not in cache when it starts (the previous query
+// read other arrays), and the scan of a 32K-vertex sheet's 96K values took ~0.09 ms of a 3.4 ms
+// one-thread DCD query (2.6% of its samples in a perf profile), serial work a second thread halves.
+inline void require_coordinates(const F64Array& a, const char* name, int threads = 1) {
     const double* v = a.data();
-    const py::ssize_t n = a.size();
-    uint32_t out = 0;
-    for (py::ssize_t i = 0; i < n; ++i) out |= out_of_coordinate_range(v[i]);
-    if (!out) return;
-    py::ssize_t bad = 0;
+    const int64_t n = a.size();
+    constexpr int64_t kChunk = 1 << 14;
+    const int64_t chunks = (n + kChunk - 1) / kChunk;
+    if (threads <= 1 || chunks < 2) {
+        if (!any_out_of_coordinate_range(v, 0, n)) return;
+    } else {
+        std::atomic<uint32_t> out{0};
+        parallel_chunks(chunks, threads, [&](int64_t c, int) {
+            if (any_out_of_coordinate_range(v, c * kChunk, std::min(n, (c + 1) * kChunk)))
+                out.store(1, std::memory_order_relaxed);
+        });
+        if (!out.load(std::memory_order_relaxed)) return;
+    }
+    int64_t bad = 0;
     while (!out_of_coordinate_range(v[bad])) ++bad;
     std::string where;
     if (a.ndim() == 2) {
@@ -126,30 +146,11 @@ inline void require_coordinates(const F64Array& a, const char* name) {
                           "predicates to stay exact (rescale the mesh)");
 }
 
-// require_shape, then require_coordinates: positions (or directions) entering the predicates.
-inline void require_points(const F64Array& a, const char* name, py::ssize_t rows, py::ssize_t cols) {
+// require_shape, then require_coordinates (on `threads`): positions (or directions) entering the
+// predicates.
+inline void require_points(const F64Array& a, const char* name, py::ssize_t rows, py::ssize_t cols, int threads = 1) {
     require_shape(a, name, rows, cols);
-    require_coordinates(a, name);
-}
-
-// The same scan on `threads` (a query's, parallel.hpp), in chunks of 16K values; the first value
-// out of range is then found and named by require_coordinates. Why: a query's positions are
-// mostly not in cache when it starts (the previous query read other arrays), and the scan of a
-// 32K-vertex sheet's 96K values took ~0.09 ms of a 3.4 ms one-thread DCD query (2.6% of its
-// samples in a perf profile), serial work that a second thread halves.
-inline void require_points(const F64Array& a, const char* name, py::ssize_t rows, py::ssize_t cols, int threads) {
-    require_shape(a, name, rows, cols);
-    constexpr int64_t kChunk = 1 << 14;
-    const double* v = a.data();
-    const int64_t n = a.size(), chunks = (n + kChunk - 1) / kChunk;
-    if (threads <= 1 || chunks < 2) return require_coordinates(a, name);
-    std::atomic<uint32_t> out{0};
-    parallel_chunks(chunks, threads, [&](int64_t c, int) {
-        uint32_t o = 0;
-        for (int64_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i) o |= out_of_coordinate_range(v[i]);
-        if (o) out.store(1, std::memory_order_relaxed);
-    });
-    if (out.load(std::memory_order_relaxed)) require_coordinates(a, name);
+    require_coordinates(a, name, threads);
 }
 
 // Raises ValueError naming the argument unless every value of `a` is finite (cone bounds).
