@@ -10,8 +10,8 @@ import numpy as np
 
 from conecull.datasets import generated
 from conecull.datasets.checks import count, real
-from conecull.datasets.sim import (Bend, CapsuleCollider, FunnelCollider, Gravity, PinnedVertices, PlaneCollider,
-                                   SelfContact, SphereCollider, StrainLimit, Stretch, Tethers, Wind,
+from conecull.datasets.sim import (Bend, CapsuleCollider, FunnelCollider, Gravity, IsometricBend, PinnedVertices,
+                                   PlaneCollider, SelfContact, SphereCollider, StrainLimit, Stretch, Tethers, Wind,
                                    grid_skip_pairs)
 
 
@@ -61,7 +61,9 @@ def robe_sheet(resolution: int, size: float = 1.6, neck: float = 0.13, with_map:
 def falling(resolution: int):
     """A robe-like sheet (a square with a neck hole) thrown down fast over a body proxy (capsules
     for torso, shoulders and arms, a sphere for the head, a floor), with self-contact (Falling).
-    Strain limiting keeps the fine robe from stretching down to the floor under its weight."""
+    Strain limiting keeps the fine robe from stretching down to the floor under its weight; the
+    isometric bending keeps it from buckling at the scale of single triangles where it gathers
+    around the body (it does with Bend, whose resistance vanishes near flat)."""
     resolution = count("resolution", resolution, 2)
     F, V, remap = robe_sheet(resolution, with_map=True)
     V = V + [0.0, 0.0, 1.75]
@@ -74,5 +76,5 @@ def falling(resolution: int):
             CapsuleCollider((-0.09, 0, 0.0), (-0.09, 0, 0.6), 0.07),      # legs
             CapsuleCollider((0.09, 0, 0.0), (0.09, 0, 0.6), 0.07),
             SphereCollider((0, 0, 1.58), 0.11)]                           # head
-    return F, V, [Gravity(), Stretch(), StrainLimit(skip), Bend(1e-3), *body, PlaneCollider(0.0), SelfContact()], \
-        {"velocity": (0, 0, -3.0)}
+    return F, V, [Gravity(), Stretch(), StrainLimit(skip), IsometricBend(1e-6), *body, PlaneCollider(0.0),
+                  SelfContact()], {"velocity": (0, 0, -3.0)}

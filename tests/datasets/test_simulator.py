@@ -124,3 +124,90 @@ def test_self_contact_scenes_stay_intersection_free(name, resolution, frames):
     col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]))
     assert all(len(col.dcd(x).pairs) == 0 for x in P)
     assert P[-1][:, 2].max() < P[0][:, 2].max()  # it fell
+
+
+def test_affine_dependency_is_exact_on_fractions():
+    """IsometricBend's weights (signed-area cofactors, by Cramer) against their definition, in
+    exact arithmetic: sum K = 0 and sum K p = 0 for four rational points of a plane, K_c = 1."""
+    from fractions import Fraction as Q
+
+    from conecull.datasets.sim.effects.constraints import affine_dependency
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        coordinate = lambda: Q(int(rng.integers(-50, 50)), int(rng.integers(1, 9)))  # noqa: E731
+        pts = [(coordinate(), coordinate()) for _ in range(4)]
+        a, b, c, d = pts
+        if (b[0] - a[0]) * (d[1] - a[1]) == (d[0] - a[0]) * (b[1] - a[1]):
+            continue  # a, b, d on one line: no scaling to K_c = 1
+        K = affine_dependency(a, b, c, d)
+        assert K[2] == 1
+        assert sum(K) == 0
+        assert sum(k * p[0] for k, p in zip(K, pts)) == 0 and sum(k * p[1] for k, p in zip(K, pts)) == 0
+
+
+def _hinge(rng):
+    """A random flat hinge in 3D: a, b (the edge), c on one side, d on the other, each (1, 3)."""
+    u, w = np.linalg.qr(rng.standard_normal((3, 2)))[0].T
+    o = rng.standard_normal(3)
+    at = lambda x, y: (o + x * u + y * w)[None, :]  # noqa: E731
+    return at(0.0, 0.0), at(1.0, 0.0), at(rng.uniform(-0.5, 1.5), rng.uniform(0.3, 1.0)), \
+        at(rng.uniform(-0.5, 1.5), -rng.uniform(0.3, 1.0))
+
+
+def test_isometric_bend_vanishes_on_affine_images_and_grows_linearly_with_the_fold():
+    """C = sum K_j x_j is zero for any rigid motion, in-plane stretch or shear of the flat rest
+    hinge, and grows like the fold angle, where Bend's distance |c - d| changes like its square."""
+    from conecull.datasets.sim.effects.constraints import hinge_weights
+
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        a, b, c, d = _hinge(rng)
+        K = hinge_weights(a, b, c, d)[0]
+        X = np.concatenate([a, b, c, d])
+        assert abs(K.sum()) < 1e-12 and np.abs(K @ X).max() < 1e-12
+        R = np.linalg.qr(rng.standard_normal((3, 3)))[0]
+        A = R @ (np.eye(3) + 0.3 * rng.standard_normal((3, 3)))  # any linear map, then a shift
+        assert np.abs(K @ (X @ A.T + rng.standard_normal(3))).max() < 1e-9
+        axis = (b - a)[0] / np.linalg.norm(b - a)
+
+        def fold(t):  # d turned about the edge by angle t
+            v = (d - a)[0]
+            v = v * np.cos(t) + np.cross(axis, v) * np.sin(t) + axis * (axis @ v) * (1 - np.cos(t))
+            return np.concatenate([a, b, c, (a[0] + v)[None, :]])
+
+        small, smaller = (np.linalg.norm(K @ fold(t)) / t for t in (1e-2, 1e-3))
+        assert small > 0.05 and abs(small / smaller - 1) < 0.01  # linear in the angle
+        dist = lambda Y: np.linalg.norm(Y[2] - Y[3])  # noqa: E731
+        assert abs(dist(fold(1e-3)) - dist(X)) / 1e-3 < 1e-2 * small  # Bend's measure: second order
+
+
+def test_isometric_bend_keeps_a_squeezed_sheet_from_crinkling():
+    """A sheet whose opposite edges are pushed together must buckle. With Bend (no resistance
+    near flat) it crinkles at the scale of single triangles; with IsometricBend it folds smoothly:
+    the falling scene's robe, gathered around the body, is the same situation."""
+    import conecull
+    from conecull.datasets.sim import IsometricBend
+
+    n = 24
+    F, V = generated.grid_sheet(n, n)
+    edges = np.flatnonzero((V[:, 0] < 1e-9) | (V[:, 0] > V[:, 0].max() - 1e-9))
+
+    def squeeze(t, rest):
+        out = rest.copy()
+        s = min(t / 0.4, 1.0) * 0.35
+        out[:, 0] = np.where(rest[:, 0] < 0.5, rest[:, 0] + s / 2, rest[:, 0] - s / 2)
+        return out
+
+    off, ef = conecull.Mesh(F).edge_faces
+    inner = np.flatnonzero(np.diff(off) == 2)
+    f1, f2 = ef[off[inner]], ef[off[inner] + 1]
+
+    def sharp_hinges(bend):
+        V0 = V + np.column_stack([np.zeros((len(V), 2)), 1e-4 * np.random.default_rng(0).standard_normal(len(V))])
+        X = Simulator(F, V0, [Stretch(), bend, PinnedVertices(edges, squeeze)]).run(30)[-1]
+        N = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
+        N /= np.linalg.norm(N, axis=1)[:, None]
+        return float((np.einsum("ij,ij->i", N[f1], N[f2]) < np.cos(np.radians(30.0))).mean())
+
+    assert sharp_hinges(IsometricBend(1e-6)) < 0.02 < 0.10 < sharp_hinges(Bend(1e-6))

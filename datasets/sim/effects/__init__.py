@@ -8,9 +8,10 @@ Each effect implements only the stages it needs; the simulator calls only declar
 
 from conecull.datasets.sim.effects.base import Effect, _scatter_add
 from conecull.datasets.sim.effects.colliders import CapsuleCollider, FunnelCollider, PlaneCollider, SphereCollider
-from conecull.datasets.sim.effects.constraints import Bend, PinnedVertices, Stretch, StrainLimit, Tethers, grid_skip_pairs
+from conecull.datasets.sim.effects.constraints import (Bend, IsometricBend, PinnedVertices, Stretch, StrainLimit,
+                                                       Tethers, grid_skip_pairs)
 from conecull.datasets.sim.effects.contact import SelfContact
 from conecull.datasets.sim.effects.forces import Gravity, Wind
 
-__all__ = ["Effect", "Gravity", "Wind", "PinnedVertices", "Tethers", "Stretch", "StrainLimit", "Bend", "PlaneCollider",
-           "SphereCollider", "FunnelCollider", "CapsuleCollider", "SelfContact"]
+__all__ = ["Effect", "Gravity", "Wind", "PinnedVertices", "Tethers", "Stretch", "StrainLimit", "Bend", "IsometricBend",
+           "PlaneCollider", "SphereCollider", "FunnelCollider", "CapsuleCollider", "SelfContact"]
