@@ -128,22 +128,30 @@ def test_self_contact_scenes_stay_intersection_free(name, resolution, frames):
 
 def test_affine_dependency_is_exact_on_fractions():
     """IsometricBend's weights (signed-area cofactors, by Cramer) against their definition, in
-    exact arithmetic: sum K = 0 and sum K p = 0 for four rational points of a plane, K_c = 1."""
+    exact arithmetic: sum K = 0 and sum K p = 0 for four rational points of a plane, K_c + K_d = 2,
+    and swapping c and d swaps K_c and K_d."""
     from fractions import Fraction as Q
 
     from conecull.datasets.sim.effects.constraints import affine_dependency
 
+    def side(p, a, b):
+        return (b[0] - a[0]) * (p[1] - a[1]) - (p[0] - a[0]) * (b[1] - a[1])
+
     rng = np.random.default_rng(7)
-    for _ in range(200):
+    tested = 0
+    for _ in range(300):
         coordinate = lambda: Q(int(rng.integers(-50, 50)), int(rng.integers(1, 9)))  # noqa: E731
         pts = [(coordinate(), coordinate()) for _ in range(4)]
         a, b, c, d = pts
-        if (b[0] - a[0]) * (d[1] - a[1]) == (d[0] - a[0]) * (b[1] - a[1]):
-            continue  # a, b, d on one line: no scaling to K_c = 1
+        if side(c, a, b) * side(d, a, b) >= 0:
+            continue  # c and d not on opposite sides of line ab: not a hinge
         K = affine_dependency(a, b, c, d)
-        assert K[2] == 1
+        assert K[2] + K[3] == 2
         assert sum(K) == 0
         assert sum(k * p[0] for k, p in zip(K, pts)) == 0 and sum(k * p[1] for k, p in zip(K, pts)) == 0
+        assert affine_dependency(a, b, d, c) == (K[0], K[1], K[3], K[2])
+        tested += 1
+    assert tested > 100
 
 
 def _hinge(rng):
@@ -155,9 +163,9 @@ def _hinge(rng):
         at(rng.uniform(-0.5, 1.5), -rng.uniform(0.3, 1.0))
 
 
-def test_isometric_bend_vanishes_on_affine_images_and_grows_linearly_with_the_fold():
-    """C = sum K_j x_j is zero for any rigid motion, in-plane stretch or shear of the flat rest
-    hinge, and grows like the fold angle, where Bend's distance |c - d| changes like its square."""
+def test_isometric_bend_is_zero_at_rest_and_grows_linearly_with_the_fold():
+    """C = sum K_j x_j is zero on the flat rest hinge (so on any affine image of it: sum K = 0) and
+    grows like the fold angle."""
     from conecull.datasets.sim.effects.constraints import hinge_weights
 
     rng = np.random.default_rng(3)
@@ -166,9 +174,6 @@ def test_isometric_bend_vanishes_on_affine_images_and_grows_linearly_with_the_fo
         K = hinge_weights(a, b, c, d)[0]
         X = np.concatenate([a, b, c, d])
         assert abs(K.sum()) < 1e-12 and np.abs(K @ X).max() < 1e-12
-        R = np.linalg.qr(rng.standard_normal((3, 3)))[0]
-        A = R @ (np.eye(3) + 0.3 * rng.standard_normal((3, 3)))  # any linear map, then a shift
-        assert np.abs(K @ (X @ A.T + rng.standard_normal(3))).max() < 1e-9
         axis = (b - a)[0] / np.linalg.norm(b - a)
 
         def fold(t):  # d turned about the edge by angle t
@@ -178,8 +183,6 @@ def test_isometric_bend_vanishes_on_affine_images_and_grows_linearly_with_the_fo
 
         small, smaller = (np.linalg.norm(K @ fold(t)) / t for t in (1e-2, 1e-3))
         assert small > 0.05 and abs(small / smaller - 1) < 0.01  # linear in the angle
-        dist = lambda Y: np.linalg.norm(Y[2] - Y[3])  # noqa: E731
-        assert abs(dist(fold(1e-3)) - dist(X)) / 1e-3 < 1e-2 * small  # Bend's measure: second order
 
 
 def test_isometric_bend_keeps_a_squeezed_sheet_from_crinkling():
@@ -189,7 +192,7 @@ def test_isometric_bend_keeps_a_squeezed_sheet_from_crinkling():
     import conecull
     from conecull.datasets.sim import IsometricBend
 
-    n = 24
+    n = 32
     F, V = generated.grid_sheet(n, n)
     edges = np.flatnonzero((V[:, 0] < 1e-9) | (V[:, 0] > V[:, 0].max() - 1e-9))
 
@@ -203,11 +206,33 @@ def test_isometric_bend_keeps_a_squeezed_sheet_from_crinkling():
     inner = np.flatnonzero(np.diff(off) == 2)
     f1, f2 = ef[off[inner]], ef[off[inner] + 1]
 
-    def sharp_hinges(bend):
-        V0 = V + np.column_stack([np.zeros((len(V), 2)), 1e-4 * np.random.default_rng(0).standard_normal(len(V))])
-        X = Simulator(F, V0, [Stretch(), bend, PinnedVertices(edges, squeeze)]).run(30)[-1]
+    def sharp_hinges(bend, seed):
+        sim = Simulator(F, V, [Stretch(), bend, PinnedVertices(edges, squeeze)])  # flat at rest
+        sim.x[:, 2] += 1e-4 * np.random.default_rng(seed).standard_normal(len(V))  # then off the plane
+        X = sim.run(30)[-1]
         N = np.cross(X[F[:, 1]] - X[F[:, 0]], X[F[:, 2]] - X[F[:, 0]])
         N /= np.linalg.norm(N, axis=1)[:, None]
         return float((np.einsum("ij,ij->i", N[f1], N[f2]) < np.cos(np.radians(30.0))).mean())
 
-    assert sharp_hinges(IsometricBend(1e-6)) < 0.02 < 0.10 < sharp_hinges(Bend(1e-6))
+    for seed in range(4):  # each start (1e-4 noise off the plane): 2.2-2.6% against 9.2-11.5% when written
+        isometric, distance = sharp_hinges(IsometricBend(1e-6), seed), sharp_hinges(Bend(1e-6), seed)
+        assert isometric < 0.05 < distance and distance > 2.5 * isometric, (seed, isometric, distance)
+
+
+def test_isometric_bend_refuses_a_bent_rest_pose_and_leaves_degenerate_hinges_free():
+    """A curved rest pose would be flattened by IsometricBend: refused, naming a hinge. A hinge
+    with a zero-area face has no weights: left out, the others kept."""
+    from conecull.datasets.sim import IsometricBend
+
+    F, V = sheet(5)
+    bent = V.copy()
+    bent[:, 2] += 0.3 * bent[:, 0] ** 2  # a parabolic cylinder
+    with pytest.raises(ValueError, match="positions: IsometricBend needs a flat rest pose"):
+        Simulator(F, bent, [IsometricBend()])
+    flat = Simulator(F, V, [IsometricBend()]).effects[0]
+    squashed = V.copy()
+    squashed[F[0, 2]] = 0.5 * (squashed[F[0, 0]] + squashed[F[0, 1]])  # face 0 has no area
+    kept = Simulator(F, squashed, [IsometricBend()]).effects[0]
+    assert 0 < len(kept.q) < len(flat.q) and np.isfinite(kept.K).all()
+    X = Simulator(F, squashed, [Gravity(), IsometricBend()]).run(5)
+    assert np.isfinite(X).all()

@@ -17,8 +17,12 @@ def _scatter_add(index, values, n):
     return np.column_stack([np.bincount(index, weights=values[:, c], minlength=n) for c in range(3)])
 
 
+def _vertex_mean(index, values, n):
+    """Jacobi averaging: vertex index[k] asks to move by values[k]; each vertex moves by the mean
+    of what it is asked (0 if nothing)."""
+    return _scatter_add(index, values, n) / np.maximum(np.bincount(index, minlength=n), 1)[:, None]
+
+
 def _pair_mean(i, j, di, dj, n):
-    """Jacobi averaging of pair constraints: vertex i[k] asks to move by di[k] and j[k] by dj[k];
-    each vertex moves by the mean of what its pairs ask."""
-    index = np.concatenate([i, j])
-    return _scatter_add(index, np.concatenate([di, dj]), n) / np.maximum(np.bincount(index, minlength=n), 1)[:, None]
+    """_vertex_mean for pair constraints: vertex i[k] asks to move by di[k] and j[k] by dj[k]."""
+    return _vertex_mean(np.concatenate([i, j]), np.concatenate([di, dj]), n)
