@@ -106,16 +106,14 @@ void check_threads(int threads) {
                               std::to_string(threads));
 }
 
-// A multi-threaded query wakes the pool's helpers before it checks its input, which takes tens
-// of microseconds on a large mesh: they are then spinning when its first region, the refit,
-// opens (parallel.hpp, ThreadPool::prewake). Traced queries run on one thread.
-void prewake(const PyCollider& self, bool trace, int threads) {
-    if (!trace) ThreadPool::instance().prewake(threads > 0 ? threads : self.collider.threads());
-}
-
-// The query's thread count, for its input checks (require_points).
-int query_threads(const PyCollider& self, bool trace, int threads) {
-    return trace ? 1 : resolve_threads(threads > 0 ? threads : self.collider.threads());
+// The query's thread count (traced queries run on one thread), for its input checks
+// (require_points). A multi-threaded query wakes the pool's helpers here, before it checks its
+// input, which takes tens of microseconds on a large mesh: they are then spinning when its first
+// region, the refit, opens (parallel.hpp, ThreadPool::prewake).
+int prewake(const PyCollider& self, bool trace, int threads) {
+    const int n = trace ? 1 : resolve_threads(threads > 0 ? threads : self.collider.threads());
+    ThreadPool::instance().prewake(n);
+    return n;
 }
 
 Arithmetic parse_arithmetic(const std::string& s) {
@@ -168,8 +166,8 @@ void bind_collider(py::module_& m) {
             "dcd",
             [](PyCollider& self, const F64Array& V, bool trace, int threads, bool stop_at_first) {
                 check_threads(threads);
-                prewake(self, trace, threads);
-                require_points(V, "V", self.collider.topology().n_vertices, 3, query_threads(self, trace, threads));
+                const int checks = prewake(self, trace, threads);
+                require_points(V, "V", self.collider.topology().n_vertices, 3, checks);
                 DcdResult res;
                 RecordingTracer tracer;
                 without_gil([&] {
@@ -195,8 +193,7 @@ void bind_collider(py::module_& m) {
                bool toi, int threads, bool stop_at_first) {
                 const int32_t n = self.collider.topology().n_vertices;
                 check_threads(threads);
-                prewake(self, trace, threads);
-                const int checks = query_threads(self, trace, threads);
+                const int checks = prewake(self, trace, threads);
                 require_points(V0, "V0", n, 3, checks);
                 require_points(V1, "V1", n, 3, checks);
                 const Arithmetic mode = parse_arithmetic(arithmetic);
