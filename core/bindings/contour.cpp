@@ -108,6 +108,30 @@ void bind_contour(py::module_& m) {
         "The simplicity fallback of \"nc\" (DCD): is the loop projected along l a simple polygon? The edge-pair\n"
         "predicates of the cbc test, on the pairs whose extents overlap along both sweep axes (certified).");
     m.def(
+        "simplicity_pass",
+        [](const I32Array& loop, const F64Array& V, const F64Array& l, bool portable) {
+            const Vec3 axis = check_loop_pose(loop, V, l);
+            const int32_t n = static_cast<int32_t>(loop.shape(0));
+            std::vector<double> zg(static_cast<size_t>(n) + 2), zh(zg.size());
+            const Vec3 c = load(V.data(), loop.data()[0]);
+            const ProjectionFrame f = projection_frame(axis);
+            double d1, margin;
+            if (portable) {
+                d1 = project_loop_gh_portable(loop.data(), V.data(), n, c, f, kSimplicityPhi, zg.data(), zh.data());
+                margin = least_turn_margin_portable(zg.data(), zh.data(), n);
+            } else {
+                d1 = project_loop_gh(loop.data(), V.data(), n, c, f, kSimplicityPhi, zg.data(), zh.data());
+                margin = least_turn_margin(zg.data(), zh.data(), n);
+            }
+            return py::make_tuple(to_numpy(zg), to_numpy(zh), d1, margin);
+        },
+        py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("portable") = false,
+        "The simplicity test's one-pose pass: (zg, zh, d1, margin), Z_g and Z_h of the loop's vertices (two\n"
+        "wrapped at the end), the largest |p - c|_1 and the least turn margin. portable=True: the path without\n"
+        "AVX2 (the same numbers, bit for bit).");
+    m.def("simplicity_pass_vectorised", &simplicity_pass_vectorised,
+          "Whether the simplicity test's one-pose pass runs its AVX2 path on this CPU.");
+    m.def(
         "simplicity_test_ccd",
         [](const I32Array& loop, const F64Array& V0, const F64Array& V1, const F64Array& l) {
             const Vec3 axis = check_loop_step(loop, V0, V1, l);

@@ -516,3 +516,49 @@ def test_the_runs_walk_examines_exactly_the_pairs_not_apart():
     res, by_cbc = CT.simplicity_test(ids, P, l), CT.cbc_contour_test(ids, P, l)
     assert res["passed"] and by_cbc["passed"]
     assert res["edges_visited"] == by_cbc["edges_visited"] == 2 * len(P) + 2 * _swept_pairs([P], l)
+
+
+def _pass_model(P, ids, l):
+    """The one-pose pass replicated in Python floats (IEEE doubles, as the core is built: no FMA):
+    Z_g, Z_h per vertex of the loop (two wrapped), the largest |p - c|_1 and the least turn margin
+    (turn_margin<1>: max(-dot, |cross|) of the vectors to the two neighbours)."""
+    l = tuple(float(x) for x in l)
+    u, w, _, _ = ex._frame(l)
+    c = tuple(float(x) for x in P[ids[0]])
+    zg, zh, d1 = [], [], 0.0
+    for i in ids:
+        x, y, n1 = ex._fproject(tuple(float(v) for v in P[i]), c, u, w)
+        d1 = max(d1, n1)
+        zg.append(x + ex.SWEEP_PHI * y)
+        zh.append(y - ex.SWEEP_PHI * x)
+    n = len(ids)
+    margin = float("inf")
+    for b in range(n):
+        a, cc = (b - 1) % n, (b + 1) % n
+        ag, ah, cg, ch = zg[a] - zg[b], zh[a] - zh[b], zg[cc] - zg[b], zh[cc] - zh[b]
+        dot, cr = ag * cg + ah * ch, ag * ch - ah * cg
+        margin = min(margin, max(-dot, cr, -cr))
+    return zg + zg[:2], zh + zh[:2], d1, margin
+
+
+def test_the_one_pose_pass_is_the_same_on_every_path():
+    """simplicity_pass (the AVX2 path where the CPU has it) and its portable form give the same
+    numbers bit for bit, and both those of the float model above: loops of 3 to 40 vertices (every
+    remainder of the four-wide loop), their ids scattered over a larger array (the gathers), on
+    _loops()'s shapes, a grid, and coordinates of mixed magnitudes."""
+    rng = np.random.default_rng(11)
+    cases = list(_loops()[:40])
+    for n in range(3, 20):
+        P = rng.standard_normal((n, 3)) * np.exp(rng.uniform(-20, 20, (n, 1)))
+        cases.append((P, rng.standard_normal(3)))
+    for P, l in cases:
+        n = len(P)
+        big = rng.standard_normal((3 * n + 5, 3))
+        ids = rng.permutation(len(big))[:n].astype(np.int32)
+        big[ids] = P
+        want = _pass_model(big, ids, l)
+        for portable in (False, True):
+            zg, zh, d1, margin = CT.simplicity_pass(ids, big, l, portable=portable)
+            assert zg.tolist() == want[0] and zh.tolist() == want[1], (n, portable)
+            assert d1 == want[2] and margin == want[3], (n, portable)
+    assert isinstance(CT.simplicity_pass_vectorised(), bool)

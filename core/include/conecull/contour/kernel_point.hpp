@@ -72,6 +72,14 @@ struct ProjectionScratch {
     std::vector<double> X, Y;
 };
 
+// At least n elements of a scratch buffer, their values unspecified. Why not resize(n): loops of
+// different lengths take turns, and every resize up zero-fills the elements it adds.
+template <class T>
+T* scratch_buffer(std::vector<T>& v, size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
+}
+
 // Projects p relative to the reference vertex c: X = fl(fl(p - c) . u), Y = fl(fl(p - c) . w~).
 // With d = fl(p - c) and D1 = |d|_1, the exact projections X* = (p - c) . u, Y* = (p - c) . w
 // (w = l x u exactly) satisfy |X - X*| <= (gamma_3 + 1.01 eps) D1 max|u_j| and
@@ -97,10 +105,8 @@ inline double project(const Vec3& p, const Vec3& c, const ProjectionFrame& f, do
 inline bool search_kernel_point(const int32_t* loop, int32_t n, const double* V, const ProjectionFrame& f,
                                 const Vec3& m, ProjectionScratch& s, Vec3& o, double& d1, int32_t& visited) {
     constexpr double inf = std::numeric_limits<double>::infinity();
-    s.X.resize(n);
-    s.Y.resize(n);
-    double* X = s.X.data();
-    double* Y = s.Y.data();
+    double* X = scratch_buffer(s.X, static_cast<size_t>(n));
+    double* Y = scratch_buffer(s.Y, static_cast<size_t>(n));
     const Vec3 c = load(V, loop[0]);
     double Xm, Ym;
     project(m, c, f, Xm, Ym);
@@ -177,10 +183,8 @@ inline int32_t clip_stride(int32_t n) {
 // edge clips once).
 inline KernelSearch clipped_kernel_point(const int32_t* loop, int32_t n, const double* V, const ProjectionFrame& f,
                                          ProjectionScratch& s, Vec3& o, int32_t& visited, int32_t start = 0) {
-    s.X.resize(n);
-    s.Y.resize(n);
-    double* X = s.X.data();
-    double* Y = s.Y.data();
+    double* X = scratch_buffer(s.X, static_cast<size_t>(n));
+    double* Y = scratch_buffer(s.Y, static_cast<size_t>(n));
     const Vec3 c = load(V, loop[0]);
     double area2 = 0.0, x0 = 0.0, x1 = 0.0, y0 = 0.0, y1 = 0.0;
     X[0] = Y[0] = 0.0;
