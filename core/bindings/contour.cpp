@@ -1,4 +1,5 @@
 // Contour bindings (core/include/conecull/contour/): per-node loops and Alg. 1 on one loop.
+#include <limits>
 #include <optional>
 
 #include <pybind11/stl.h>
@@ -112,7 +113,9 @@ void bind_contour(py::module_& m) {
         [](const I32Array& loop, const F64Array& V, const F64Array& l, bool portable) {
             const Vec3 axis = check_loop_pose(loop, V, l);
             const int32_t n = static_cast<int32_t>(loop.shape(0));
-            std::vector<double> zg(static_cast<size_t>(n) + 2), zh(zg.size());
+            // NaN first: an entry the pass fails to write shows (the traversal's buffers hold an
+            // earlier loop's numbers).
+            std::vector<double> zg(static_cast<size_t>(n) + 2, std::numeric_limits<double>::quiet_NaN()), zh(zg);
             const Vec3 c = load(V.data(), loop.data()[0]);
             const ProjectionFrame f = projection_frame(axis);
             double d1, margin;
@@ -127,8 +130,8 @@ void bind_contour(py::module_& m) {
         },
         py::arg("loop"), py::arg("V"), py::arg("l"), py::arg("portable") = false,
         "The simplicity test's one-pose pass: (zg, zh, d1, margin), Z_g and Z_h of the loop's vertices (two\n"
-        "wrapped at the end), the largest |p - c|_1 and the least turn margin. portable=True: the path without\n"
-        "AVX2 (the same numbers, bit for bit).");
+        "wrapped at the end), the largest |p - c|_1 and the least turn margin (+0 for a zero). portable=True: the\n"
+        "path without AVX2 (the same numbers, bit for bit).");
     m.def("simplicity_pass_vectorised", &simplicity_pass_vectorised,
           "Whether the simplicity test's one-pose pass runs its AVX2 path on this CPU.");
     m.def(

@@ -69,7 +69,8 @@ namespace {
     alignas(32) double lanes[4];
     _mm256_store_pd(lanes, acc);  // never NaN: started at infinity, and NaN turns leave it
     return least_turn_margin_range(zg, zh, b, n + 1,
-                                   min_into(min_into(lanes[0], lanes[1]), min_into(lanes[2], lanes[3])));
+                                   min_into(min_into(lanes[0], lanes[1]), min_into(lanes[2], lanes[3]))) +
+           0.0;  // +0 for a zero, as the portable path
 }
 
 }  // namespace

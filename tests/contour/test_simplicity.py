@@ -520,45 +520,93 @@ def test_the_runs_walk_examines_exactly_the_pairs_not_apart():
 
 def _pass_model(P, ids, l):
     """The one-pose pass replicated in Python floats (IEEE doubles, as the core is built: no FMA):
-    Z_g, Z_h per vertex of the loop (two wrapped), the largest |p - c|_1 and the least turn margin
-    (turn_margin<1>: max(-dot, |cross|) of the vectors to the two neighbours)."""
+    Z_g, Z_h per vertex of the loop (two wrapped), the largest |p - c|_1, the turn margin at each
+    vertex (turn_margin<1>: max(-dot, |cross|) of the vectors to the two neighbours) and their
+    least, + 0.0 as the core returns it (a zero is +0)."""
     l = tuple(float(x) for x in l)
     u, w, _, _ = ex._frame(l)
     c = tuple(float(x) for x in P[ids[0]])
-    zg, zh, d1 = [], [], 0.0
+    zg, zh, norms = [], [], []
     for i in ids:
         x, y, n1 = ex._fproject(tuple(float(v) for v in P[i]), c, u, w)
-        d1 = max(d1, n1)
+        norms.append(n1)
         zg.append(x + ex.SWEEP_PHI * y)
         zh.append(y - ex.SWEEP_PHI * x)
     n = len(ids)
-    margin = float("inf")
+    turns = []
     for b in range(n):
         a, cc = (b - 1) % n, (b + 1) % n
         ag, ah, cg, ch = zg[a] - zg[b], zh[a] - zh[b], zg[cc] - zg[b], zh[cc] - zh[b]
         dot, cr = ag * cg + ah * ch, ag * ch - ah * cg
-        margin = min(margin, max(-dot, cr, -cr))
-    return zg + zg[:2], zh + zh[:2], d1, margin
+        turns.append(max(-dot, cr, -cr))
+    return zg + zg[:2], zh + zh[:2], max(norms), min(turns) + 0.0, norms, turns
 
 
-def test_the_one_pose_pass_is_the_same_on_every_path():
-    """simplicity_pass (the AVX2 path where the CPU has it) and its portable form give the same
-    numbers bit for bit, and both those of the float model above: loops of 3 to 40 vertices (every
-    remainder of the four-wide loop), their ids scattered over a larger array (the gathers), on
-    _loops()'s shapes, a grid, and coordinates of mixed magnitudes."""
+def _bits(x):
+    return np.asarray(x, dtype=np.float64).view(np.uint64).tolist()
+
+
+def _pass_cases():
+    """(P, ids, l): _loops()'s first 40 shapes and random loops of 3 to 19 vertices over 40 orders of
+    magnitude; then, for every n from 3 to 12 and every vertex k, a random loop whose least turn is
+    at k alone and one whose farthest vertex from vertex 0 is k alone (so that a turn or a vertex
+    the pass skips, or a lane its reductions drop, changes the answer). Ids scattered over a
+    larger array (the gathers)."""
     rng = np.random.default_rng(11)
-    cases = list(_loops()[:40])
+    shapes = list(_loops()[:40])
     for n in range(3, 20):
-        P = rng.standard_normal((n, 3)) * np.exp(rng.uniform(-20, 20, (n, 1)))
-        cases.append((P, rng.standard_normal(3)))
-    for P, l in cases:
+        shapes.append((rng.standard_normal((n, 3)) * np.exp(rng.uniform(-20, 20, (n, 1))), rng.standard_normal(3)))
+    for n in range(3, 13):
+        for k in range(n):
+            for want in ("turn", "far"):
+                if want == "far" and k == 0:
+                    continue  # vertex 0 is c: |p - c|_1 = 0
+                while True:
+                    P, l = rng.standard_normal((n, 3)), rng.standard_normal(3)
+                    *_, norms, turns = _pass_model(P, np.arange(n), l)
+                    v = np.array(turns if want == "turn" else norms)
+                    best = v.min() if want == "turn" else v.max()
+                    if np.flatnonzero(v == best).tolist() == [k]:
+                        shapes.append((P, l))
+                        break
+    for P, l in shapes:
         n = len(P)
         big = rng.standard_normal((3 * n + 5, 3))
         ids = rng.permutation(len(big))[:n].astype(np.int32)
         big[ids] = P
-        want = _pass_model(big, ids, l)
-        for portable in (False, True):
-            zg, zh, d1, margin = CT.simplicity_pass(ids, big, l, portable=portable)
-            assert zg.tolist() == want[0] and zh.tolist() == want[1], (n, portable)
-            assert d1 == want[2] and margin == want[3], (n, portable)
-    assert isinstance(CT.simplicity_pass_vectorised(), bool)
+        yield big, ids, l
+
+
+def _check_pass(portable):
+    count = 0
+    for big, ids, l in _pass_cases():
+        zg, zh, d1, margin, *_ = _pass_model(big, ids, l)
+        got = CT.simplicity_pass(ids, big, l, portable=portable)
+        assert _bits(got[0]) == _bits(zg) and _bits(got[1]) == _bits(zh), (len(ids), portable)
+        assert _bits(got[2]) == _bits(d1) and _bits(got[3]) == _bits(margin), (len(ids), portable)
+        count += 1
+    assert count == 57 + 2 * sum(range(3, 13)) - 10
+
+
+def test_the_one_pose_pass_portable_path_equals_the_float_model():
+    """simplicity_pass's portable path gives the float model's numbers bit for bit (_pass_cases):
+    its arrays, D1 and least turn margin. The binding fills its buffers with NaN first, so an entry
+    the pass never writes shows."""
+    _check_pass(portable=True)
+
+
+@pytest.mark.skipif(not CT.simplicity_pass_vectorised(), reason="this CPU has no AVX2: the portable path runs")
+def test_the_one_pose_pass_avx2_path_equals_the_float_model():
+    """The AVX2 path (four vertices at a time, gathers, lane reductions and a scalar tail) gives the
+    same bits as the model and the portable path on every case, including a zero margin, returned
+    as +0 by both (a turn straight back gives +0, a zero-length edge -0; the lanes meet them in
+    another order than the loop)."""
+    _check_pass(portable=False)
+    # Both zeros in one loop: vertex 3 equals vertex 1 (a turn straight back at 2: +0) and vertex 6
+    # equals vertex 5 (a zero-length edge: -0).
+    t = np.linspace(0, 2 * np.pi, 8, endpoint=False)
+    P = np.stack([np.cos(t), np.sin(t), np.zeros(8)], axis=1)
+    P[3], P[6] = P[1], P[5]
+    ids, l = np.arange(8, dtype=np.int32), np.array([0.0, 0.0, 1.0])
+    for portable in (False, True):
+        assert _bits(CT.simplicity_pass(ids, P, l, portable=portable)[3]) == _bits(0.0)

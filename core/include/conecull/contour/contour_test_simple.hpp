@@ -135,8 +135,11 @@ inline double least_turn_margin_range(const double* zg, const double* zh, int32_
                                               Z1{{zg[b + 1]}, {zh[b + 1]}}));
     return margin;
 }
+// The least over all n, + 0.0: a zero margin is +0 whichever of +0 (a turn straight back) and -0
+// (a zero-length edge) came first, so that the AVX2 path, which takes the least in another order,
+// returns the same bits (only `margin > bound` reads it).
 inline double least_turn_margin_portable(const double* zg, const double* zh, int32_t n) {
-    return least_turn_margin_range(zg, zh, 1, n + 1, std::numeric_limits<double>::infinity());
+    return least_turn_margin_range(zg, zh, 1, n + 1, std::numeric_limits<double>::infinity()) + 0.0;
 }
 
 // The same two, on AVX2 where the CPU has it (the same operations in the same order per vertex, so
