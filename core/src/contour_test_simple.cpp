@@ -1,12 +1,7 @@
 // The simplicity test's one-pose pass (contour_test_simple.hpp), four vertices at a time on AVX2.
 #include "conecull/contour/contour_test_simple.hpp"
 
-#if defined(__x86_64__) || defined(__i386__)
-#define CONECULL_HAS_AVX2_PATH 1
-#include <immintrin.h>
-#else
-#define CONECULL_HAS_AVX2_PATH 0  // other CPUs: the portable path only
-#endif
+#include "conecull/avx2.hpp"
 
 namespace conecull {
 
@@ -76,14 +71,7 @@ namespace {
 }  // namespace
 #endif
 
-bool simplicity_pass_vectorised() {
-#if CONECULL_HAS_AVX2_PATH
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2;
-#else
-    return false;
-#endif
-}
+bool simplicity_pass_vectorised() { return cpu_has_avx2(); }
 
 double project_loop_gh(const int32_t* loop, const double* V, int32_t n, const Vec3& c, const ProjectionFrame& f,
                        double phi, double* zg, double* zh) {

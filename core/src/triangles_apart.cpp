@@ -1,11 +1,6 @@
 #include "conecull/elementary/triangles_apart.hpp"
 
-#if defined(__x86_64__) || defined(__i386__)
-#define CONECULL_HAS_AVX2_PATH 1
-#include <immintrin.h>
-#else
-#define CONECULL_HAS_AVX2_PATH 0  // other CPUs: the portable path only
-#endif
+#include "conecull/avx2.hpp"
 
 #include "conecull/elementary/triangle_triangle.hpp"
 #include "conecull/predicates/orient.hpp"
@@ -291,14 +286,7 @@ uint32_t triangles_collide4_portable(const double* V, const int32_t* F, const Fa
     return hits;
 }
 
-bool triangles_apart4_vectorised() {
-#if CONECULL_HAS_AVX2_PATH
-    static const bool avx2 = __builtin_cpu_supports("avx2");
-    return avx2;
-#else
-    return false;
-#endif
-}
+bool triangles_apart4_vectorised() { return cpu_has_avx2(); }
 
 uint32_t triangles_apart4(const double* V, const int32_t* F, const FacePair* pairs) {
 #if CONECULL_HAS_AVX2_PATH
