@@ -120,10 +120,10 @@ void bind_contour(py::module_& m) {
             const ProjectionFrame f = projection_frame(axis);
             double d1, margin;
             if (portable) {
-                d1 = project_loop_gh_portable(loop.data(), V.data(), n, c, f, kSimplicityPhi, zg.data(), zh.data());
+                d1 = project_loop_gh_portable(loop.data(), V.data(), n, c, f, zg.data(), zh.data());
                 margin = least_turn_margin_portable(zg.data(), zh.data(), n);
             } else {
-                d1 = project_loop_gh(loop.data(), V.data(), n, c, f, kSimplicityPhi, zg.data(), zh.data());
+                d1 = project_loop_gh(loop.data(), V.data(), n, c, f, zg.data(), zh.data());
                 margin = least_turn_margin(zg.data(), zh.data(), n);
             }
             return py::make_tuple(to_numpy(zg), to_numpy(zh), d1, margin);

@@ -11,11 +11,11 @@ namespace {
 // Per lane, project_loop_gh_portable's operations in its order: d = p - c, X = (dx ux + dy uy) +
 // dz uz (dot, vec3.hpp), the same for Y, |dx| + |dy| + |dz|, then Z.
 [[gnu::target("avx2")]] double project_loop_gh_avx2(const int32_t* loop, const double* V, int32_t n, const Vec3& c,
-                                                    const ProjectionFrame& f, double phi, double* zg, double* zh) {
+                                                    const ProjectionFrame& f, double* zg, double* zh) {
     const __m256d cx = _mm256_set1_pd(c.x), cy = _mm256_set1_pd(c.y), cz = _mm256_set1_pd(c.z);
     const __m256d ux = _mm256_set1_pd(f.u.x), uy = _mm256_set1_pd(f.u.y), uz = _mm256_set1_pd(f.u.z);
     const __m256d wx = _mm256_set1_pd(f.w.x), wy = _mm256_set1_pd(f.w.y), wz = _mm256_set1_pd(f.w.z);
-    const __m256d ph = _mm256_set1_pd(phi), sign = _mm256_set1_pd(-0.0);
+    const __m256d ph = _mm256_set1_pd(kSimplicityPhi), sign = _mm256_set1_pd(-0.0);
     __m256d d1v = _mm256_setzero_pd();
     int32_t i = 0;
     for (; i + 4 <= n; i += 4) {
@@ -38,7 +38,7 @@ namespace {
     // The lanes' maxima (never NaN: sums of absolute values) in any order, then the rest.
     alignas(32) double lanes[4];
     _mm256_store_pd(lanes, d1v);
-    const double d1 = project_loop_gh_range(loop, V, i, n, c, f, phi, zg, zh,
+    const double d1 = project_loop_gh_range(loop, V, i, n, c, f, zg, zh,
                                             max_into(max_into(lanes[0], lanes[1]), max_into(lanes[2], lanes[3])));
     wrap_loop_gh(zg, zh, n);
     return d1;
@@ -74,11 +74,11 @@ namespace {
 bool simplicity_pass_vectorised() { return cpu_has_avx2(); }
 
 double project_loop_gh(const int32_t* loop, const double* V, int32_t n, const Vec3& c, const ProjectionFrame& f,
-                       double phi, double* zg, double* zh) {
+                       double* zg, double* zh) {
 #if CONECULL_HAS_AVX2_PATH
-    if (simplicity_pass_vectorised()) return project_loop_gh_avx2(loop, V, n, c, f, phi, zg, zh);
+    if (simplicity_pass_vectorised()) return project_loop_gh_avx2(loop, V, n, c, f, zg, zh);
 #endif
-    return project_loop_gh_portable(loop, V, n, c, f, phi, zg, zh);
+    return project_loop_gh_portable(loop, V, n, c, f, zg, zh);
 }
 
 double least_turn_margin(const double* zg, const double* zh, int32_t n) {

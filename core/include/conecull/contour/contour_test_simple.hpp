@@ -104,15 +104,15 @@ double turn_margin(const ZPoint<n_poses>& a, const ZPoint<n_poses>& b, const ZPo
 // |p - c|_1. Why apart from the pass: as a loop of its own, without the runs' branches, the
 // projections of several vertices overlap, and run four at a time with AVX2
 // (contour_test_simple.cpp). On the folding sheet of `bench contour`, contour time per DCD query
-// 0.90x in this portable form, 0.86x with AVX2 (four alternations of the builds).
+// 0.91x in this portable form, 0.86x with AVX2 (four alternations of the builds).
 // Vertices [from, to), d1 the largest |p - c|_1 so far.
 inline double project_loop_gh_range(const int32_t* loop, const double* V, int32_t from, int32_t to, const Vec3& c,
-                                    const ProjectionFrame& f, double phi, double* zg, double* zh, double d1) {
+                                    const ProjectionFrame& f, double* zg, double* zh, double d1) {
     for (int32_t i = from; i < to; ++i) {
         double x, y;
         d1 = max_into(d1, project(load(V, loop[i]), c, f, x, y));
-        zg[i] = x + phi * y;
-        zh[i] = y - phi * x;
+        zg[i] = x + kSimplicityPhi * y;
+        zh[i] = y - kSimplicityPhi * x;
     }
     return d1;
 }
@@ -120,8 +120,8 @@ inline void wrap_loop_gh(double* zg, double* zh, int32_t n) {
     zg[n] = zg[0], zg[n + 1] = zg[1], zh[n] = zh[0], zh[n + 1] = zh[1];
 }
 inline double project_loop_gh_portable(const int32_t* loop, const double* V, int32_t n, const Vec3& c,
-                                       const ProjectionFrame& f, double phi, double* zg, double* zh) {
-    const double d1 = project_loop_gh_range(loop, V, 0, n, c, f, phi, zg, zh, 0.0);
+                                       const ProjectionFrame& f, double* zg, double* zh) {
+    const double d1 = project_loop_gh_range(loop, V, 0, n, c, f, zg, zh, 0.0);
     wrap_loop_gh(zg, zh, n);
     return d1;
 }
@@ -145,7 +145,7 @@ inline double least_turn_margin_portable(const double* zg, const double* zh, int
 // The same two, on AVX2 where the CPU has it (the same operations in the same order per vertex, so
 // the same numbers: no FMA).
 double project_loop_gh(const int32_t* loop, const double* V, int32_t n, const Vec3& c, const ProjectionFrame& f,
-                       double phi, double* zg, double* zh);
+                       double* zg, double* zh);
 double least_turn_margin(const double* zg, const double* zh, int32_t n);
 bool simplicity_pass_vectorised();
 
@@ -264,7 +264,7 @@ ContourVerdict simplicity_test(const int32_t* loop, const double* const* P, int3
     if constexpr (n_poses == 1) {
         double* const zg = scratch_buffer(s.zg, nn + 2);
         double* const zh = scratch_buffer(s.zh, nn + 2);
-        d1 = project_loop_gh(loop, P[0], n, c, f, phi, zg, zh);
+        d1 = project_loop_gh(loop, P[0], n, c, f, zg, zh);
         margin = least_turn_margin(zg, zh, n);
         for (int32_t i = 0; i < n; ++i) add_edge(i, Z{{zg[i]}, {zh[i]}}, Z{{zg[i + 1]}, {zh[i + 1]}});
     } else {
