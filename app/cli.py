@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 
@@ -20,7 +21,7 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("record", help="trace a mesh sequence and write a rerun recording (.rrd)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
-    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--positions", help="an .npz (or .npy) of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--out", default="run.rrd", help="recording to write (default run.rrd)")
     p.add_argument("--method", choices=list(METHODS), default="nc",
@@ -36,7 +37,7 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("view", help="the interactive viewer in the browser (viser)")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
-    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--positions", help="an .npz (or .npy) of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--port", type=int, default=8080,
                    help="port in [0, 65535] (default 8080; if taken, viser moves to the next free one; 0: any free "
@@ -47,7 +48,7 @@ def main(argv: list[str] | None = None) -> int:
 
     p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
     p.add_argument("input", help=INPUT_HELP)
-    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--positions", help="an .npz (or .npy) of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--frame", type=int, required=True, help="the frame to query, counted from 0 (required)")
     p.add_argument("--node", type=int, required=True,
@@ -57,7 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     p = sub.add_parser("check", help="is each frame intersection-free (and, with --ccd, each step collision-free)? "
                                      "Prints the first collision found; exit status 1 if any, 0 if none")
     p.add_argument("input", nargs="?", default=None, help=INPUT_HELP + f" (default: the scene {DEFAULT_SCENE})")
-    p.add_argument("--positions", help="an .npz of positions (T, n, 3) when INPUT is one mesh file")
+    p.add_argument("--positions", help="an .npz (or .npy) of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
     p.add_argument("--frames", help="A:B (B exclusive) or K, frames counted from 0: the frames to check (default all)")
     p.add_argument("--method", choices=list(METHODS), default="nc", help="culling method (default nc; --ccd: any but sct)")
@@ -88,12 +89,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads; first-hit: steps (the shared "
                                   "real steps)")
-    p.add_argument("--triangles", type=int, default=64000,
+    # --triangles, --frames and --out default to None here and are filled in by _check_bench_args,
+    # which must see what was typed: an option the suite does not use is an error, not ignored.
+    p.add_argument("--triangles", type=int,
                    help="triangles of the generated folding sheet the suites query (all: its step in the steps "
                         "table, and the contour, ccd and threads sections) (default 64000)")
-    p.add_argument("--frames", type=int, default=8, help="frames per query sequence (all: the last N of each scene)")
+    p.add_argument("--frames", type=int, help="frames per query sequence (all: the last N of each scene) (default 8)")
     p.add_argument("--repeats", type=int, help="timed runs per frame; medians are reported (default 5; all: 3)")
-    p.add_argument("--out", default="bench-results", help="folder for the JSON output")
+    p.add_argument("--out", help="folder for the JSON output (default bench-results)")
     p.add_argument("--threads", type=int, help="threads per query (dcd, ccd, first-hit: default 1; trace, contour: "
                                                "always 1); "
                                                "the threads suite compares 1 thread with this many (default 2)")
@@ -113,7 +116,8 @@ INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames 
 # The library names its Python arguments (load_sequence's positions=, record's frame_range=, ...);
 # the CLI passes its options' values to them, so it names the option the user typed.
 OPTION_OF = {"positions": "--positions", "resolution": "--resolution", "method": "--method",
-             "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth", "skip": "--skip"}
+             "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth", "skip": "--skip",
+             "threads": "--threads"}
 
 
 def _as_option(message: str) -> str:
@@ -173,16 +177,72 @@ def _check(args) -> int:
     return 1 if bad else 0
 
 
+# The options each bench suite reads (the suite itself aside); any other one typed is an error.
+BENCH_OPTIONS = {
+    "all": {"scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats", "out", "threads"},
+    "front": {"scenes", "resolution", "out", "threads"},
+    "dcd": {"triangles", "frames", "repeats", "out", "threads"},
+    "ccd": {"triangles", "repeats", "out", "threads"},  # single steps: no frame count
+    "threads": {"triangles", "frames", "repeats", "out", "threads"},
+    "first-hit": {"triangles", "repeats", "out", "threads", "skip"},
+    "trace": {"triangles", "frames", "repeats", "out"},    # a traced query runs on one thread
+    "contour": {"triangles", "frames", "repeats", "out"},  # contour times are one thread's
+}
+MAX_BENCH_FRAMES = 10_000  # frames per query sequence: beyond this a typo, not a benchmark
+MAX_BENCH_REPEATS = 1_000
+
+
 def _check_bench_args(args) -> None:
-    """Counts the benchmarks need, checked before minutes of work (each names its option)."""
-    for name, value, low in (("--threads", args.threads, 1), ("--repeats", args.repeats, 1),
-                             ("--frames", args.frames, 2), ("--triangles", args.triangles, 8)):
-        if value is not None and value < low:
-            raise ValueError(f"{name}: expected an integer >= {low}, got {value}")
+    """The bench options, checked before minutes of work (each names its option); then the
+    defaults of --triangles, --frames and --out."""
+    from conecull.datasets.checks import count, fits_in_memory
+
+    typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
+                               "out", "threads") if getattr(args, name) is not None}
+    if args.suite == "all" and args.from_json is not None:
+        allowed = {"from_json", "out"}  # a re-render times nothing
+    else:
+        allowed = BENCH_OPTIONS[args.suite]
+    for name in sorted(typed - allowed):
+        option = "--" + name.replace("_", "-")
+        why = "only the output folder goes with --from-json" if args.suite == "all" else \
+            f"the {args.suite} suite does not use it"
+        if args.suite in ("trace", "contour") and name == "threads":
+            why = f"the {args.suite} suite always measures one thread"
+        raise ValueError(f"{option}: {why} (options of `bench {args.suite}`: "
+                         f"{', '.join('--' + o.replace('_', '-') for o in sorted(allowed))})")
+    for name, value, low, high in (("--threads", args.threads, 1, 1024), ("--repeats", args.repeats, 1, MAX_BENCH_REPEATS),
+                                   ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None)):
+        if value is not None:
+            count(name, value, low, high)
+    args.triangles = 64000 if args.triangles is None else args.triangles
+    args.frames = 8 if args.frames is None else args.frames
+    args.out = "bench-results" if args.out is None else args.out
+    # The generated sheet's frames are held at once (positions: 24 bytes per vertex, about half as
+    # many vertices as triangles); a size beyond this machine is refused, not swapped through.
+    fits_in_memory("--triangles", 2 * 24.0 * (args.triangles / 2 + 1), f"a sheet of {args.triangles} triangles")
+    fits_in_memory("--frames", args.frames * 24.0 * (args.triangles / 2 + 1),
+                   f"{args.frames} frames of a sheet of {args.triangles} triangles")
     if args.sizes is not None:
         from conecull.app.evaluation import parse_sizes
 
         parse_sizes(args.sizes)
+    _check_out_folder(args.out)
+
+
+def _check_out_folder(out: str) -> None:
+    """The folder the results go to, created now: a path that cannot be one fails before the run
+    (its JSON is written at the end)."""
+    if not out:
+        raise ValueError("--out: expected a folder path, got ''")
+    if os.path.exists(out) and not os.path.isdir(out):
+        raise ValueError(f"--out: '{out}' exists and is not a folder")
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"--out: cannot create folder '{out}' ({e.strerror or e})") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise ValueError(f"--out: cannot write into folder '{out}'")
 
 
 def _run(args) -> int:

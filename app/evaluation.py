@@ -248,21 +248,33 @@ def _fig1_table(rows):
 
 def render_from_json(path: str, out: str) -> int:
     """Re-render the scene tables and the plots of a finished run from its paper.json (no timing)."""
-    with open(path) as fh:
-        try:
+    try:
+        with open(path) as fh:
             results = json.load(fh)
-        except json.JSONDecodeError as e:
-            raise ValueError(f"--from-json: '{path}' is not a JSON file ({e})") from None
+    except json.JSONDecodeError as e:
+        raise ValueError(f"--from-json: '{path}' is not a JSON file ({e})") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ValueError(f"--from-json: cannot read '{path}' ({getattr(e, 'strerror', None) or e})") from None
+    not_paper = f"--from-json: '{path}' is not the paper.json of a `bench all` run"
     if not isinstance(results, dict):
-        raise ValueError(f"--from-json: '{path}' is not the paper.json of a `bench all` run")
-    if results.get("scenes"):
-        _fig10_tables(results["scenes"], "scene")
-        _fig11_table(results["scenes"])
-        _fig1_table(results["scenes"])
-    if results.get("steps"):
-        _fig10_tables(results["steps"], "scene")
-    os.makedirs(out, exist_ok=True)
-    plots = _plots(results, out)
+        raise ValueError(not_paper)
+    for key in ("scenes", "steps"):
+        rows = results.get(key)
+        if rows is not None and not (isinstance(rows, list) and all(isinstance(r, dict) for r in rows)):
+            raise ValueError(f"{not_paper} (its '{key}' is not a list of rows)")
+    # The rows' own fields are the tables' and plots' (many, nested): a file that lacks one is not
+    # a paper.json, whichever it is. Rendering only reads the file, so nothing is half-written.
+    try:
+        if results.get("scenes"):
+            _fig10_tables(results["scenes"], "scene")
+            _fig11_table(results["scenes"])
+            _fig1_table(results["scenes"])
+        if results.get("steps"):
+            _fig10_tables(results["steps"], "scene")
+        os.makedirs(out, exist_ok=True)
+        plots = _plots(results, out)
+    except (KeyError, TypeError, IndexError, AttributeError) as e:
+        raise ValueError(f"{not_paper} (a row lacks or mistypes {e})") from None
     print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'} in {out}")
     return 0
 

@@ -114,18 +114,37 @@ def _first_non_finite(a: np.ndarray) -> str:
         f"frame {idx[0]} has a non-finite coordinate {a[idx]} at {where}"
 
 
+# The queries' exact predicates take non-zero coordinate magnitudes in [2^-128, 2^128] (the core
+# refuses others); checked here too, so a file's coordinate is refused with the file named.
+_LOWEST, _HIGHEST = 2.0**-128, 2.0**128
+
+
+def _first_out_of_range(a: np.ndarray, of: str = "") -> str | None:
+    m = np.abs(a)
+    bad = (m != 0) & ((m < _LOWEST) | (m > _HIGHEST))
+    if not bad.any():
+        return None
+    idx = tuple(int(i) for i in np.argwhere(bad)[0])
+    where = f"at row {idx[-2]}, column {idx[-1]}" if a.ndim == 2 else f"in frame {idx[0]} at row {idx[-2]}, column {idx[-1]}"
+    return (f"coordinate {float(a[idx])!r} {where}{of} is outside the supported range: non-zero magnitudes must lie in "
+            "[2^-128, 2^128] for the predicates to stay exact (rescale the mesh)")
+
+
 def points(name: str, value) -> np.ndarray:
-    """Positions (n, 3), real and finite, as float64."""
+    """Positions (n, 3), real, finite and within the queries' range, as float64."""
     a = _real_array(name, value)
     if a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"{name}: expected an array of shape (n, 3), got {a.shape}")
     if not np.isfinite(a).all():
         raise ValueError(f"{name}: {_first_non_finite(a)}")
+    if (why := _first_out_of_range(a)) is not None:
+        raise ValueError(f"{name}: {why}")
     return a
 
 
 def frames(name: str, value, n_vertices: int | None = None, source: str | None = None) -> np.ndarray:
-    """A sequence of poses (T, n, 3) with T >= 1 and n >= 1, real and finite, as float64.
+    """A sequence of poses (T, n, 3) with T >= 1 and n >= 1, real, finite and within the queries'
+    range, as float64.
     `source` (a file) is named in the messages too; `n_vertices`, if given, is the mesh's."""
     of = f" in '{source}'" if source else ""
     a = _real_array(name, value)
@@ -142,4 +161,6 @@ def frames(name: str, value, n_vertices: int | None = None, source: str | None =
         raise ValueError(f"{name}: frames have no vertices{of} (shape {a.shape})")
     if not np.isfinite(a).all():
         raise ValueError(f"{name}: {_first_non_finite(a)}{of}")
+    if (why := _first_out_of_range(a, of)) is not None:
+        raise ValueError(f"{name}: {why}")
     return a

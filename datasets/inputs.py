@@ -48,6 +48,10 @@ def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:
     """The mesh's own checks (indices, repeated vertices), with the file named."""
     import conecull
 
+    if F.size and F.max() >= n_vertices:  # else Mesh would blame its n_vertices, which no one passed here
+        r = int(np.argmax(F.max(axis=1)))
+        raise ValueError(f"{path}: faces: row {r} refers to vertex {int(F[r].max())} (counted from 0), but the file "
+                         f"has {n_vertices} vertices")
     try:
         conecull.Mesh(F, n_vertices=n_vertices)
     except ValueError as e:
@@ -111,10 +115,14 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     if not os.path.exists(positions):
         raise FileNotFoundError(f"positions: '{positions}' does not exist")
     try:
-        with np.load(positions) as z:
-            raw = z["positions" if "positions" in z.files else z.files[0]] if z.files else None
+        loaded = np.load(positions, allow_pickle=False)
+        if isinstance(loaded, np.ndarray):  # an .npy: the array itself
+            raw = loaded
+        else:
+            with loaded as z:
+                raw = z["positions" if "positions" in z.files else z.files[0]] if z.files else None
     except Exception as e:
-        raise ValueError(f"positions: cannot read '{positions}' as .npz ({e})") from None
+        raise ValueError(f"positions: cannot read '{positions}' as .npz or .npy ({e})") from None
     if raw is None:
         raise ValueError(f"positions: '{positions}' holds no array")
     # real (complex would lose its imaginary part, silently), (T >= 1, n, 3), finite: each

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -147,10 +148,13 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     resolution = count("resolution", scene.default_resolution if resolution is None else resolution, 3)
     frames_given = frames is not None  # a size error names what the caller chose (the CLI sets no frame count)
     frames = count("frames", scene.default_frames if frames is None else frames, 1)
-    path = cache_dir() / f"{name}-{_key(scene, resolution, frames)}.npz"
-    if path.exists():  # finite: checked before it was written (the key changes with the code)
-        with np.load(path) as z:
-            return z["faces"], z["positions"]
+    folder = cache_dir()
+    if folder.exists() and not folder.is_dir():  # before generating, not after: mkdir would fail there
+        source = "CONECULL_CACHE" if os.environ.get("CONECULL_CACHE") else "the cache folder"
+        raise ValueError(f"{source}: '{folder}' is not a folder")
+    path = folder / f"{name}-{_key(scene, resolution, frames)}.npz"
+    if path.exists():
+        return _read_cached(path, frames)
     try:
         n_triangles = scene.triangles(resolution)
     except ValueError as e:
@@ -178,6 +182,33 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     tmp = path.with_suffix(".tmp.npz")
     np.savez(tmp, faces=F, positions=P)
     os.replace(tmp, path)  # atomic: a concurrent reader never sees half a file
+    return F, P
+
+
+def _read_cached(path: Path, frames: int):
+    """A cached scene, checked as a generated one is before it is written (shapes, ids, finite
+    positions): a damaged or foreign file is an error naming it, never a sequence handed out."""
+    def damaged(why: str):
+        return ValueError(f"cache: '{path}' is damaged or not a scene cache ({why}); delete it, and the next "
+                          "load generates the scene again")
+
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in ("faces", "positions") if k in z.files}
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:  # truncated, empty, not an npz, pickled
+        raise damaged(str(e) or type(e).__name__) from None
+    for k in ("faces", "positions"):
+        if k not in arrays:
+            raise damaged(f"no array '{k}'")
+    F, P = arrays["faces"], arrays["positions"]
+    if F.dtype != np.int64 or F.ndim != 2 or F.shape[1:] != (3,):
+        raise damaged(f"faces {F.dtype} {F.shape}, expected int64 (m, 3)")
+    if P.dtype != np.float64 or P.ndim != 3 or P.shape[0] != frames or P.shape[2] != 3:
+        raise damaged(f"positions {P.dtype} {P.shape}, expected float64 ({frames}, n, 3)")
+    if F.size and (F.min() < 0 or F.max() >= P.shape[1]):
+        raise damaged(f"face ids outside [0, {P.shape[1]})")
+    if not np.isfinite(P).all():
+        raise damaged("a non-finite position")
     return F, P
 
 

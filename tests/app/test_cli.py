@@ -80,10 +80,10 @@ def test_folder_and_npz_inputs(tmp_path, capsys):
     (["record", "fold", "--out", "no/such/folder/r.rrd"], "--out: folder"),
     (["record", "fold", "--out", "."], "--out: '.' is a directory"),
     (["demo", "--out", "no/such/folder/d.rrd"], "--out: folder"),
-    (["bench", "dcd", "--frames", "0"], "--frames: expected an integer >= 2, got 0"),
+    (["bench", "dcd", "--frames", "0"], "--frames: expected an integer in [2, 10000], got 0"),
     (["bench", "dcd", "--triangles", "-5"], "--triangles: expected an integer >= 8, got -5"),
-    (["bench", "contour", "--repeats", "0"], "--repeats: expected an integer >= 1, got 0"),
-    (["bench", "threads", "--threads", "0"], "--threads: expected an integer >= 1, got 0"),
+    (["bench", "contour", "--repeats", "0"], "--repeats: expected an integer in [1, 1000], got 0"),
+    (["bench", "threads", "--threads", "0"], "--threads: expected an integer in [1, 1024], got 0"),
     (["bench", "all", "--sizes", "abc"], "--sizes: expected comma-separated triangle counts, got 'abc'"),
     (["bench", "all", "--sizes", "4"], "--sizes: expected triangle counts >= 8"),
 ])
@@ -244,3 +244,51 @@ def test_check_reports_first_hits_that_are_real(capsys):
 def test_check_bad_options(argv, message, capsys):
     assert main(argv) == 2
     assert message in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["bench", "dcd", "--scenes", "fold"], "--scenes: the dcd suite does not use it (options of `bench dcd`: --frames, "),
+    (["bench", "dcd", "--skip", "steps"], "--skip: the dcd suite does not use it"),
+    (["bench", "ccd", "--frames", "4"], "--frames: the ccd suite does not use it"),
+    (["bench", "front", "--repeats", "3"], "--repeats: the front suite does not use it"),
+    (["bench", "trace", "--threads", "2"], "--threads: the trace suite always measures one thread"),
+    (["bench", "contour", "--threads", "2"], "--threads: the contour suite always measures one thread"),
+    (["bench", "all", "--from-json", "x.json", "--scenes", "fold"], "--scenes: only the output folder goes with --from-json"),
+    (["bench", "threads", "--threads", "5000"], "--threads: expected an integer in [1, 1024], got 5000"),
+    (["bench", "dcd", "--threads", "0"], "--threads: expected an integer in [1, 1024], got 0"),
+    (["bench", "dcd", "--frames", "100000000"], "--frames: expected an integer in [2, 10000], got 100000000"),
+    (["bench", "dcd", "--repeats", "0"], "--repeats: expected an integer in [1, 1000], got 0"),
+    (["bench", "dcd", "--triangles", "100000000000000"], "--triangles: a sheet of 100000000000000 triangles would need"),
+    (["bench", "dcd", "--out", "/dev/null/x"], "--out: cannot create folder '/dev/null/x'"),
+])
+def test_bench_options_are_checked_before_any_work(argv, msg, capsys):
+    """Exit code 2 with the option named, at once: an option the suite would ignore, a count out
+    of range, an output folder that cannot be made (the results are written at the end)."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert msg in err and "Traceback" not in err, err
+
+
+def test_bench_out_that_is_a_file(tmp_path, capsys):
+    (tmp_path / "f").write_text("")
+    assert main(["bench", "dcd", "--out", str(tmp_path / "f")]) == 2
+    assert f"--out: '{tmp_path / 'f'}' exists and is not a folder" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content,msg", [
+    (None, "--from-json: cannot read"),  # a folder
+    ('{"scenes": 5}', "is not the paper.json of a `bench all` run (its 'scenes' is not a list of rows)"),
+    ('{"scenes": [{"x": 1}]}', "is not the paper.json of a `bench all` run (a row lacks or mistypes"),
+    ('[1, 2]', "is not the paper.json of a `bench all` run"),
+])
+def test_bench_from_json_names_a_file_that_is_no_paper_json(tmp_path, content, msg, capsys):
+    path = tmp_path / "paper.json"
+    if content is None:
+        path.mkdir()
+    else:
+        path.write_text(content)
+    assert main(["bench", "all", "--from-json", str(path), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert msg in err and "Traceback" not in err, err
+    assert main(["bench", "all", "--from-json", str(tmp_path / "none.json")]) == 2
+    assert f"--from-json: cannot read '{tmp_path / 'none.json'}'" in capsys.readouterr().err

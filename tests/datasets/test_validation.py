@@ -127,6 +127,22 @@ def test_bad_position_files_are_named(tmp_path, mesh_file, P, match):
         load_sequence(mesh_file, positions=str(tmp_path / "p.npz"))
 
 
+def test_positions_out_of_the_queries_range_are_named(tmp_path, mesh_file):
+    P = np.zeros((2, 3, 3))
+    P[1, 2, 0] = 1e300  # finite, but beyond what the exact predicates take
+    np.savez(tmp_path / "p.npz", positions=P)
+    with pytest.raises(ValueError, match=r"positions: coordinate 1e\+300 in frame 1 at row 2, column 0 in '.*p\.npz' is "
+                                         r"outside the supported range"):
+        load_sequence(mesh_file, positions=str(tmp_path / "p.npz"))
+
+
+def test_positions_as_npy(tmp_path, mesh_file):
+    P = np.arange(18, dtype=float).reshape(2, 3, 3)
+    np.save(tmp_path / "p.npy", P)
+    F, got = load_sequence(mesh_file, positions=str(tmp_path / "p.npy"))
+    assert np.array_equal(got, P) and F.tolist() == [[0, 1, 2]]
+
+
 def test_an_npz_without_arrays(tmp_path, mesh_file):
     np.savez(tmp_path / "p.npz")
     with pytest.raises(ValueError, match="positions: '.*p.npz' holds no array"):
@@ -136,6 +152,8 @@ def test_an_npz_without_arrays(tmp_path, mesh_file):
 @pytest.mark.parametrize("text,match", [
     ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n", r"bad\.obj: faces: row 0 repeats a vertex"),
     ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", r"bad\.obj: vertices: non-finite coordinate nan at row 0, column 2"),
+    ("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n",
+     r"bad\.obj: vertices: coordinate 1e\+300 at row 1, column 0 is outside the supported range"),
 ])
 def test_bad_mesh_files_are_named(tmp_path, text, match):
     (tmp_path / "bad.obj").write_text(text)
@@ -212,3 +230,44 @@ def test_inexact_positions_are_refused(tmp_path):
     np.savez(tmp_path / "p.npz", positions=P)
     with pytest.raises(ValueError, match=r"positions: some float128 coordinates are not exactly float64"):
         load_sequence(str(path), positions=str(tmp_path / "p.npz"))
+
+
+def test_a_face_beyond_a_files_vertices_is_named(tmp_path):
+    """The file has 3 vertices and a face refers to a sixth: the file and its vertex count are
+    named (not Mesh's n_vertices, which no one passed)."""
+    (tmp_path / "bad.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                                      "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n")
+    with pytest.raises(ValueError, match=r"bad\.ply: faces: row 0 refers to vertex 5 \(counted from 0\), but the file "
+                                         r"has 3 vertices"):
+        load_sequence(str(tmp_path / "bad.ply"))
+
+
+@pytest.mark.parametrize("damage,why", [
+    (lambda p: p.write_bytes(p.read_bytes()[:100]), ""),
+    (lambda p: p.write_bytes(b""), ""),
+    (lambda p: np.savez(p, faces=np.zeros((1, 3), np.int64)), "no array 'positions'"),
+    (lambda p: np.savez(p, faces=np.array([[0, 1, 2]]), positions=np.full((30, 3, 3), np.nan)),
+     "a non-finite position"),
+    (lambda p: np.savez(p, faces=np.array([[0, 1, 9]]), positions=np.zeros((30, 3, 3))), r"face ids outside \[0, 3\)"),
+    (lambda p: np.savez(p, faces=np.array([[0, 1, 2]]), positions=np.zeros((2, 3, 3))), r"positions float64 \(2, 3, 3\)"),
+])
+def test_a_damaged_cache_file_is_named(cache, damage, why):
+    """A cached scene is checked when read, as it was before it was written: a damaged file is a
+    ValueError naming it (and saying to delete it), never a sequence handed out."""
+    datasets.load("fold", resolution=4)
+    (path,) = cache.glob("fold-*.npz")
+    damage(path)
+    with pytest.raises(ValueError, match=rf"cache: '.*fold-.*\.npz' is damaged or not a scene cache \({why}.*delete it"):
+        datasets.load("fold", resolution=4)
+    path.unlink()  # as the message says: the next load generates it again
+    F, P = datasets.load("fold", resolution=4)
+    assert np.isfinite(P).all() and len(F)
+
+
+def test_a_cache_path_that_is_a_file(tmp_path, monkeypatch):
+    """Refused before generating (the scene would be lost at the end otherwise)."""
+    (tmp_path / "file").write_text("")
+    monkeypatch.setenv("CONECULL_CACHE", str(tmp_path / "file"))
+    with pytest.raises(ValueError, match=r"CONECULL_CACHE: '.*file' is not a folder"):
+        datasets.load("fold", resolution=4)

@@ -6,7 +6,7 @@ import pytest
 
 import conecull
 import meshcases
-from conecull.trace import EVENT_KINDS, REASONS, Trace, explain
+from conecull.trace import EVENT_KINDS, REASONS, Trace, explain, reason_name
 from oracle import brute_force_pairs
 
 NAMES = ["crumple_medium_s2", "fold_zfold_240_back150_g12", "sphere_twist_strong", "holes_zfold_200",
@@ -58,3 +58,11 @@ def test_trace_aabb_has_no_cone_events():
     res = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)), method="aabb").dcd(V, trace=True)
     assert len(res.trace.cone["node"]) == 0 and len(res.trace.contour["node"]) == 0
     assert len(res.trace.elementary["pair"]) == res.stats["elementary_tests"]
+
+
+@pytest.mark.parametrize("code", [99, -1, "x", None, 1.5e300])
+def test_unknown_verdict_codes_are_named(code):
+    with pytest.raises(ValueError, match=r"code: expected a contour verdict code in \[0, 1, "):
+        explain(code)
+    with pytest.raises(ValueError, match=r"code: expected a contour verdict code"):
+        reason_name(code)

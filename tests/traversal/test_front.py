@@ -272,4 +272,7 @@ def test_front_arrays_errors():
     col = conecull.SelfCollider(mesh, method="nc+front")
     with pytest.raises(ValueError, match="kind: expected 'dcd' or 'ccd'"):
         col.front_arrays("both")
+    for kind in (np.array(["dcd", "ccd"]), np.array(["dcd"]), ["dcd"], None, 1):  # not a name: refused, never truthy
+        with pytest.raises(ValueError, match="kind: expected 'dcd' or 'ccd'"):
+            col.front_load(kind)
     assert len(col.front_arrays("dcd")["entries"]) == 0 and not col.front_load("ccd").any()  # before any query

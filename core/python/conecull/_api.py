@@ -53,7 +53,8 @@ def _as_faces(faces) -> np.ndarray:
         r = int(np.argmin(a.min(axis=1)))
         raise ValueError(f"faces: negative vertex index {int(a[r].min())} in row {r}")
     if a.max() >= 2**31 - 1:
-        raise ValueError(f"faces: vertex index {int(a.max())} does not fit in 31 bits")
+        raise ValueError(f"faces: vertex index {int(a.max())} is too large (at most 2^31 - 2 = {2**31 - 2}: the "
+                         "vertex count must fit in 31 bits)")
     rep = (a[:, 0] == a[:, 1]) | (a[:, 1] == a[:, 2]) | (a[:, 0] == a[:, 2])
     if rep.any():
         r = int(np.argmax(rep))
@@ -89,7 +90,7 @@ class Mesh:
         elif n_vertices < needed:
             raise ValueError(f"n_vertices: {n_vertices} is smaller than the largest face index + 1 ({needed})")
         elif n_vertices > 2**31 - 1:
-            raise ValueError(f"n_vertices: {n_vertices} does not fit in 31 bits")
+            raise ValueError(f"n_vertices: {n_vertices} is too large (at most 2^31 - 1 = {2**31 - 1})")
         try:
             self._topo = _core.build_topology(f, int(n_vertices))
         except MemoryError:
@@ -309,7 +310,7 @@ class SelfCollider:
         its front churned (0: tracked when visited)."""
         if not self.method.endswith("+front"):
             raise ValueError(f"method: {self.method!r} keeps no BVTT front; front_arrays needs 'aabb+front' or 'nc+front'")
-        if kind not in ("dcd", "ccd"):
+        if not isinstance(kind, str) or kind not in ("dcd", "ccd"):
             raise ValueError(f"kind: expected 'dcd' or 'ccd', got {kind!r}")
         return self._core.front_arrays(kind == "ccd")
 

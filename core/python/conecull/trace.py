@@ -92,8 +92,16 @@ REASONS: dict[int, tuple[str, str]] = {
 CONE_TOO_WIDE = ("cone_too_wide", "its normal cone is {angle:.1f} degrees wide (apex angle >= 180): normals point to both sides")
 
 
+def _reason(code) -> tuple:
+    """REASONS[code], or a ValueError naming `code` (a contour event's reason is one of them)."""
+    try:
+        return REASONS[int(code)]
+    except (KeyError, TypeError, ValueError, OverflowError):
+        raise ValueError(f"code: expected a contour verdict code in {sorted(REASONS)}, got {code!r}") from None
+
+
 def reason_name(code: int) -> str:
-    return REASONS[int(code)][0]
+    return _reason(code)[0]
 
 
 # A pass by the simplicity test (the contour event's `simple`): reason 0, in other words. "nc" runs
@@ -107,9 +115,10 @@ PASSED_SIMPLE_AFTER_STAR = ("passed", "the contour is not star-shaped from its k
 def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False, star_tried: bool = True) -> str:
     """The sentence for a contour verdict. simple: passed by the simplicity test; star_tried: Alg. 1
     failed before it (the event's kernel point is finite)."""
+    sentence = _reason(code)[1]
     if int(code) == 0 and simple:
         return (PASSED_SIMPLE_AFTER_STAR if star_tried else PASSED_SIMPLE)[1]
-    return REASONS[int(code)][1].format(edge=int(edge), crossings=int(crossings))
+    return sentence.format(edge=int(edge), crossings=int(crossings))
 
 
 class Trace:
