@@ -300,3 +300,18 @@ def test_mesh_and_results_pickle_a_collider_refuses():
     for op in (pickle.dumps, copy.deepcopy, copy.copy):
         with pytest.raises(TypeError, match="SelfCollider cannot be pickled or copied: pickle its mesh"):
             op(c)
+
+
+@pytest.mark.parametrize("bad,msg", [
+    ([0.0, 1e300, 0.0], r"f1_t1: coordinate 1e\+300 \(component 1\) is outside the supported range.*rescale the input"),
+    ([0.0, 0.0, 2.0**-130], r"f1_t1: coordinate .* \(component 2\) is outside the supported range"),
+    ([0.0, 0.0, np.nan], r"f1_t1: non-finite coordinate nan \(component 2\)"),
+    ([np.inf, 0.0, 0.0], r"f1_t1: non-finite coordinate inf \(component 0\)"),
+])
+def test_single_query_points_are_named_with_their_component(bad, msg):
+    """One point is no mesh: the argument and the component are named, not a row of a mesh."""
+    z = [0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=msg):
+        conecull.vertex_face_ccd(z, z, z, z, z, z, bad, z)
+    with pytest.raises(ValueError, match=msg.replace("f1_t1", "eb0_t1")):
+        conecull.edge_edge_ccd(z, z, z, z, z, z, bad, z)

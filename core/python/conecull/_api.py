@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass, field
 
@@ -352,7 +353,15 @@ def _as_point(x, name: str) -> np.ndarray:
         raise ValueError(f"{name}: expected 3 real coordinates, got dtype {a.dtype}")
     if a.shape != (3,):
         raise ValueError(f"{name}: expected shape (3,), got {a.shape}")
-    return _as_positions(_as_float64(a, name).reshape(1, 3), 1, name)
+    p = _as_float64(a, name)
+    # The core's checks would speak of a row and of a mesh: here it is one point.
+    for k, v in enumerate(p.tolist()):
+        if not math.isfinite(v):
+            raise ValueError(f"{name}: non-finite coordinate {v!r} (component {k})")
+        if v != 0.0 and not 2.0**-128 <= abs(v) <= 2.0**128:
+            raise ValueError(f"{name}: coordinate {v!r} (component {k}) is outside the supported range: non-zero "
+                             "magnitudes must lie in [2^-128, 2^128] for the predicates to stay exact (rescale the input)")
+    return _as_positions(p.reshape(1, 3), 1, name)
 
 
 def _check_arithmetic(arithmetic):
