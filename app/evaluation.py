@@ -162,25 +162,51 @@ def _scenes_of(args) -> tuple:
 def run_front(args) -> int:
     """`conecull bench front`: Fig. 11 alone (front entries of nc+front against aabb+front after
     each DCD query, every frame of each scene, at most the last COUNT_FRAMES), counters only, so
-    no timing and no repeats; JSON front.json."""
+    no timing and no repeats; and on each scene's last frame, the front no cone test could cull
+    (app/front_bound.py); JSON front.json."""
+    from conecull.app.front_bound import front_bound, scipy_linprog
     from conecull.datasets import load
 
     scenes = _scenes_of(args)
     threads = args.threads or 1
     rows = []
+    linprog = scipy_linprog()
     for name in scenes:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
-        _, _, all_dcd = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb+front", "nc+front"), 1, threads=threads)
-        rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd})
+        window = _window(P, COUNT_FRAMES)
+        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads)
+        rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd,
+                     "bound": front_bound(F, window[0], window[-1], linprog) if linprog else None})
     _fig11_table(rows)
+    _bound_table(rows)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "front.json"), "w") as fh:
-        json.dump([{k: r[k] for k in ("scene", "triangles", "frames", "front_ratio")} |
+        json.dump([{k: r[k] for k in ("scene", "triangles", "frames", "front_ratio", "bound")} |
                    {"nc+front": [s["front_entries"] for s in r["all_frames"]["nc+front"]],
                     "aabb+front": [s["front_entries"] for s in r["all_frames"]["aabb+front"]]} for r in rows],
                   fh, indent=1, default=_json_default)
     print(f"(JSON: {args.out}/front.json)")
     return 0
+
+
+def _bound_table(rows):
+    """What any normal-cone test could do on each scene's last frame (app/front_bound.py)."""
+    print("Could any cone test make the front smaller? On the last frame, the BVH built at the first: the front "
+          "kept where `nc` culls (ours) and where every node whose normals lie in an open hemisphere is culled, "
+          "contour or not (the best any normal-cone test can do), each as a share of `aabb+front`'s front "
+          "(app/front_bound.py).")
+    print()
+    if any(r["bound"] is None for r in rows):
+        print("(not computed: it needs scipy, which the `bench` extra brings: pip install 'conecull[bench]')")
+        print()
+        return
+    print("| scene | aabb+front entries | ours: entries (nodes) | ours: ratio | bound: entries (nodes) | bound: ratio |")
+    print("|---|---|---|---|---|---|")
+    for r in rows:
+        b = r["bound"]
+        print(f"| {r['scene']} | {b['aabb_front']} | {b['ours']} ({b['ours_nodes']}) | {b['ours_ratio']:.2f} | "
+              f"{b['bound']} ({b['bound_nodes']}) | {b['bound_ratio']:.2f} |")
+    print()
 
 
 def _fig10_tables(rows, key):

@@ -99,6 +99,10 @@ def test_bench_front(tmp_path, capsys):
         nc, ab = r["nc+front"], r["aabb+front"]
         assert len(nc) == len(ab) == r["frames"] and all(a <= b for a, b in zip(nc, ab))
         assert r["front_ratio"] == pytest.approx(statistics.median(a / b for a, b in zip(nc, ab) if b))
-    assert "| crumple |" in capsys.readouterr().out
+        bound = r["bound"]  # the last frame: no cone test keeps less than the bound, ours no less than it
+        if bound is not None:
+            assert 0 <= bound["bound"] <= bound["ours"] <= bound["aabb_front"], bound
+    out_text = capsys.readouterr().out
+    assert "| crumple |" in out_text and "Could any cone test make the front smaller?" in out_text
     assert main(["bench", "front", "--scenes", "crumple,nope", "--out", str(out)]) == 2
     assert "--scenes: unknown scene 'nope'" in capsys.readouterr().err
