@@ -6,10 +6,15 @@ sheet, something kept on a sheet folded onto itself."""
 import numpy as np
 import pytest
 
-from conecull.app.front_bound import front_bound, in_open_hemisphere, scipy_linprog
+from conecull.app.front_bound import front_bound, in_open_hemisphere
 from conecull.datasets import generated, load
+from shared_data import import_or_skip
 
-pytestmark = pytest.mark.skipif(scipy_linprog() is None, reason="needs scipy (the bench extra brings it, via ipctk)")
+
+@pytest.fixture(autouse=True)
+def scipy():
+    """Skipped without scipy, except in CI, where the test extra must have brought it."""
+    import_or_skip("scipy.optimize", "the front bound's linear programs (pip install 'conecull[bench]'; also in [test])")
 
 
 def unit(*rows):
