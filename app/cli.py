@@ -82,7 +82,7 @@ def main(argv: list[str] | None = None) -> int:
                         "normal-cone test could cull")
     p.add_argument("--scenes", help="all, front: comma-separated scenes (default the paper-sized ones: "
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")
-    p.add_argument("--resolution", type=int, help="all: the scenes' resolution (default each scene's own)")
+    p.add_argument("--resolution", type=int, help="all, front: the scenes' resolution (default each scene's own)")
     p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
                                    "(default 16000,64000,256000,1000000)")
     p.add_argument("--from-json", metavar="PAPER_JSON",
@@ -98,8 +98,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--frames", type=int, help="frames per query sequence (all: the last N of each scene) (default 8)")
     p.add_argument("--repeats", type=int, help="timed runs per frame; medians are reported (default 5; all: 3)")
     p.add_argument("--out", help="folder for the JSON output (default bench-results)")
-    p.add_argument("--threads", type=int, help="threads per query (dcd, ccd, first-hit: default 1; trace, contour: "
-                                               "always 1); "
+    p.add_argument("--threads", type=int, help="threads per query (dcd, ccd, first-hit, all, front: default 1; not "
+                                               "for trace and contour, which measure one thread); "
                                                "the threads suite compares 1 thread with this many (default 2)")
 
     args = parser.parse_args(argv)
@@ -189,6 +189,7 @@ BENCH_OPTIONS = {
     "trace": {"triangles", "frames", "repeats", "out"},    # a traced query runs on one thread
     "contour": {"triangles", "frames", "repeats", "out"},  # contour times are one thread's
 }
+BENCH_SKIPS = {"all": ("scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"), "first-hit": ("steps",)}
 MAX_BENCH_FRAMES = 10_000  # frames per query sequence: beyond this a typo, not a benchmark
 MAX_BENCH_REPEATS = 1_000
 
@@ -216,19 +217,33 @@ def _check_bench_args(args) -> None:
                                    ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None)):
         if value is not None:
             count(name, value, low, high)
+    if args.from_json is not None and not args.from_json:
+        raise ValueError("--from-json: expected the path of a paper.json, got ''")
     args.triangles = 64000 if args.triangles is None else args.triangles
     args.frames = 8 if args.frames is None else args.frames
     args.out = "bench-results" if args.out is None else args.out
     # The generated sheet's frames are held at once (positions: 24 bytes per vertex, about half as
     # many vertices as triangles); a size beyond this machine is refused, not swapped through.
+    # (`all`'s --frames counts the scenes' last frames; it builds no sheet of that many.)
     fits_in_memory("--triangles", 2 * 24.0 * (args.triangles / 2 + 1), f"a sheet of {args.triangles} triangles")
-    fits_in_memory("--frames", args.frames * 24.0 * (args.triangles / 2 + 1),
-                   f"{args.frames} frames of a sheet of {args.triangles} triangles")
+    if args.suite in ("dcd", "trace", "contour", "threads"):
+        fits_in_memory("--frames", args.frames * 24.0 * (args.triangles / 2 + 1),
+                       f"{args.frames} frames of a sheet of {args.triangles} triangles")
     if args.sizes is not None:
         from conecull.app.evaluation import parse_sizes
 
         parse_sizes(args.sizes)
-    _check_out_folder(args.out)
+    if args.scenes is not None:
+        from conecull.app.evaluation import _scenes_of
+
+        _scenes_of(args)
+    if args.skip is not None:
+        sections = BENCH_SKIPS[args.suite]
+        unknown = set(filter(None, args.skip.split(","))) - set(sections)
+        if unknown:
+            raise ValueError(f"--skip: {args.suite} can leave out {', '.join(repr(x) for x in sections)}, "
+                             f"got {sorted(unknown)}")
+    _check_out_folder(args.out)  # last: a refused option leaves no folder behind
 
 
 def _check_out_folder(out: str) -> None:

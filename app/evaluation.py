@@ -288,19 +288,23 @@ def render_from_json(path: str, out: str) -> int:
         rows = results.get(key)
         if rows is not None and not (isinstance(rows, list) and all(isinstance(r, dict) for r in rows)):
             raise ValueError(f"{not_paper} (its '{key}' is not a list of rows)")
-    # The rows' own fields are the tables' and plots' (many, nested): a file that lacks one is not
-    # a paper.json, whichever it is. Rendering only reads the file, so nothing is half-written.
+    # The rows' own fields are the tables' (many, nested): a row that lacks or mistypes one is not
+    # from a paper.json, whichever it is. The tables are rendered into a buffer first, so a bad
+    # file prints nothing but the error; the plots read the same fields.
+    tables = io.StringIO()
     try:
-        if results.get("scenes"):
-            _fig10_tables(results["scenes"], "scene")
-            _fig11_table(results["scenes"])
-            _fig1_table(results["scenes"])
-        if results.get("steps"):
-            _fig10_tables(results["steps"], "scene")
-        os.makedirs(out, exist_ok=True)
-        plots = _plots(results, out)
-    except (KeyError, TypeError, IndexError, AttributeError) as e:
+        with contextlib.redirect_stdout(tables):
+            if results.get("scenes"):
+                _fig10_tables(results["scenes"], "scene")
+                _fig11_table(results["scenes"])
+                _fig1_table(results["scenes"])
+            if results.get("steps"):
+                _fig10_tables(results["steps"], "scene")
+    except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError) as e:
         raise ValueError(f"{not_paper} (a row lacks or mistypes {e})") from None
+    print(tables.getvalue(), end="")
+    os.makedirs(out, exist_ok=True)
+    plots = _plots(results, out)
     print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'} in {out}")
     return 0
 

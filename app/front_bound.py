@@ -11,8 +11,9 @@ sub-segment that `aabb+front` keeps for them (the same BVTT cut of Collide(L, R)
 
 Whether unit normals n_i lie in an open hemisphere is a linear program: maximise t subject to
 n_i . v >= t and |v_k| <= 1; they do iff t > 0. It is solved in floating point (scipy's
-`linprog`, HiGHS) for a report, not certified like the culling predicates; a node whose cone
-ours bounded needs no solve (certified), and the mean normal is tried as a witness first.
+`linprog`, HiGHS) for a report, not certified like the culling predicates (see LP_T_MIN); a node
+whose cone ours bounded needs no solve (certified), and the mean normal is tried as a witness
+first.
 """
 
 from __future__ import annotations
@@ -29,13 +30,19 @@ def scipy_linprog():
     return linprog
 
 
-def in_open_hemisphere(normals: np.ndarray, linprog=None) -> bool:
-    """True if some v has n . v > 0 for every row n of `normals` (unit vectors, (k, 3))."""
+# At or below this optimum t the normals count as not in an open hemisphere. The solver works to
+# tolerances of about 1e-7, so only a node whose normals come within that of spanning a closed
+# hemisphere (some nearly exactly opposite) may be judged either way; any other verdict stands.
+LP_T_MIN = 1e-9
+
+
+def in_open_hemisphere(normals: np.ndarray, linprog=None, *, witness: bool = True) -> bool:
+    """True if some v has n . v > 0 for every row n of `normals` (unit vectors, (k, 3)).
+    witness=False skips the mean-normal shortcut, so the linear program decides (tests)."""
     n = np.asarray(normals, dtype=np.float64)
     if len(n) == 0:
         return True
-    w = n.sum(axis=0)
-    if (n @ w > 0).all():  # the mean normal is a witness: no solve
+    if witness and (n @ n.sum(axis=0) > 0).all():  # the mean normal is a witness: no solve
         return True
     linprog = linprog or scipy_linprog()
     if linprog is None:
@@ -43,7 +50,7 @@ def in_open_hemisphere(normals: np.ndarray, linprog=None) -> bool:
     # Variables (v_x, v_y, v_z, t): minimise -t subject to t - n . v <= 0, -1 <= v_k <= 1, t <= 1.
     res = linprog(np.array([0.0, 0.0, 0.0, -1.0]), A_ub=np.c_[-n, np.ones(len(n))], b_ub=np.zeros(len(n)),
                   bounds=[(-1.0, 1.0)] * 3 + [(None, 1.0)], method="highs")
-    return bool(res.status == 0 and -res.fun > 1e-9)
+    return bool(res.status == 0 and -res.fun > LP_T_MIN)
 
 
 def front_bound(F, V_build, V, linprog=None) -> dict:
@@ -61,7 +68,15 @@ def front_bound(F, V_build, V, linprog=None) -> dict:
     nc = conecull.SelfCollider(mesh, method="nc", threads=1)
     for col in (aabb, nc):
         col.dcd(V_build)  # the BVH comes from the first pose queried
-    aabb.dcd(V)
+    # The jump from V_build to V can make sub-segments churn, and a churned one rests: it keeps
+    # no entries for a query or more, and is rebuilt by the query after. Query V until a query
+    # rested nowhere and none is left to rest, so every node's Front_X is counted.
+    for _ in range(64):
+        rested = aabb.dcd(V).stats["front_rested"]
+        if rested == 0 and not aabb.front_arrays("dcd")["resting"].any():
+            break
+    else:
+        raise RuntimeError("front_bound: aabb+front kept resting nodes after 64 queries of the same pose")
     traced = nc.dcd(V, trace=True)
     b = nc.bvh_arrays()
     left, right, begin, end, order = b["left"], b["right"], b["begin"], b["end"], b["order"]

@@ -83,7 +83,7 @@ def test_bench_first_hit(tmp_path):
 
 def test_bench_first_hit_bad_skip(capsys):
     assert main(["bench", "first-hit", "--skip", "scenes"]) == 2
-    assert "--skip: first-hit can leave out 'steps' only" in capsys.readouterr().err
+    assert "--skip: first-hit can leave out 'steps', got ['scenes']" in capsys.readouterr().err
 
 
 def test_bench_front(tmp_path, capsys):

@@ -290,5 +290,18 @@ def test_bench_from_json_names_a_file_that_is_no_paper_json(tmp_path, content, m
     assert main(["bench", "all", "--from-json", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert msg in err and "Traceback" not in err, err
-    assert main(["bench", "all", "--from-json", str(tmp_path / "none.json")]) == 2
+    assert main(["bench", "all", "--from-json", str(tmp_path / "none.json"), "--out", str(tmp_path / "o")]) == 2
     assert f"--from-json: cannot read '{tmp_path / 'none.json'}'" in capsys.readouterr().err
+
+
+def test_bench_refusals_leave_no_folder(tmp_path, capsys):
+    """--skip, --scenes and an empty --from-json are refused before --out is created (and an
+    empty --from-json never starts the full evaluation)."""
+    out = tmp_path / "o"
+    for argv, msg in ((["bench", "first-hit", "--skip", "scenes"], "--skip: first-hit can leave out 'steps', got ['scenes']"),
+                      (["bench", "all", "--skip", "everything"], "--skip: all can leave out 'scenes', 'steps'"),
+                      (["bench", "front", "--scenes", "nope"], "--scenes: unknown scene 'nope'"),
+                      (["bench", "all", "--from-json", ""], "--from-json: expected the path of a paper.json, got ''")):
+        assert main([*argv, "--out", str(out)]) == 2
+        assert msg in capsys.readouterr().err
+        assert not out.exists(), argv

@@ -54,6 +54,45 @@ def test_open_hemisphere_agrees_with_sampled_witnesses():
     assert seen[True] > 20 and seen[False] > 20  # both answers exercised
 
 
+def test_the_linear_program_agrees_with_certified_cones():
+    """Every node whose cone the core bounded (a certificate that its normals lie in an open
+    hemisphere) passes the linear program alone, without the mean-normal shortcut; and on the
+    crumpled sphere the program finds nodes beyond those, so the bound is below ours."""
+    import conecull
+
+    F, P = load("crumple")
+    V = P[-1]
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)), method="nc", threads=1)
+    col.dcd(P[0])
+    col.dcd(V)
+    b, cones = col.bvh_arrays(), col.cone_arrays()
+    T = V[F]
+    n = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+    bounded = np.flatnonzero((cones["cos_bound"] > 0) & (b["right"] >= 0))
+    assert len(bounded) > 20
+    for x in bounded:
+        assert in_open_hemisphere(n[b["order"][b["begin"][x]:b["end"][x]]], witness=False), x
+    crumpled = front_bound(F, P[0], V)
+    assert 0 < crumpled["bound"] < crumpled["ours"] <= crumpled["aabb_front"]
+
+
+def test_the_front_is_counted_whole_after_a_jump():
+    """A jump from the build pose to the last one makes sub-segments churn and rest (keeping no
+    entries); the bound queries the pose again until none rests, so its `aabb+front` count is
+    that of a front that keeps every node's entries."""
+    import conecull
+
+    F, P = load("crumple")
+    got = front_bound(F, P[0], P[-1])
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]), method="aabb+front", threads=1)
+    col.dcd(P[0])
+    for _ in range(8):
+        col.dcd(P[-1])
+    fr = col.front_arrays("dcd")
+    assert not fr["resting"].any() and got["aabb_front"] == len(fr["entries"])
+
+
 def test_front_bound_on_a_flat_and_a_folded_sheet():
     F, V = generated.grid_sheet(24, 24)
     flat = front_bound(F, V, V)
