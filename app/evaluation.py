@@ -191,7 +191,7 @@ def run_front(args) -> int:
 
 def _bound_table(rows):
     """What any normal-cone test could do on each scene's last frame (app/front_bound.py)."""
-    print("Could any cone test make the front smaller? On the last frame, the BVH built at the first: the front "
+    print("Could any cone test make the front smaller? On the last frame, the BVH built at the window's first: the front "
           "kept where `nc` culls (ours) and where every node whose normals lie in an open hemisphere is culled, "
           "contour or not (the best any normal-cone test can do), each as a share of `aabb+front`'s front "
           "(app/front_bound.py).")
