@@ -425,6 +425,20 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     return 0
 
 
+# The sections each suite can leave out with --skip.
+SKIPPABLE = {"all": ("scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"), "first-hit": ("steps",)}
+
+
+def check_skip(suite: str, skip: str | None) -> set:
+    """--skip's comma-separated sections for `suite`, each one it can leave out."""
+    sections = set(filter(None, (skip or "").split(",")))
+    unknown = sections - set(SKIPPABLE[suite])
+    if unknown:
+        raise ValueError(f"skip: {suite} can leave out {', '.join(repr(x) for x in SKIPPABLE[suite])}, "
+                         f"got {sorted(unknown)}")
+    return sections
+
+
 def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
                         threads: int = 1, skip: str = "") -> int:
     """The one-bit questions of a simulator's line search, against the full queries that list
@@ -434,10 +448,7 @@ def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: in
     query once (a front method then starts from its own front); full and first-hit runs take
     turns; medians. Checked: the first hit is one of the full query's collisions, or there are none."""
     del n_frames  # single steps
-    unknown = set(filter(None, skip.split(","))) - {"steps"}
-    if unknown:
-        raise ValueError(f"skip: first-hit can leave out 'steps' only, got {sorted(unknown)}")
-    steps = ([] if "steps" in skip.split(",") else shared_steps()) + [_generated_ccd_steps(n_triangles)[1]]
+    steps = ([] if "steps" in check_skip("first-hit", skip) else shared_steps()) + [_generated_ccd_steps(n_triangles)[1]]
     print(f"# First hit against the full query: {len(steps)} steps, {repeats} runs (medians), {threads} thread(s), "
           "CCD in exact arithmetic")
     print()

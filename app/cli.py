@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 
 
@@ -189,7 +188,6 @@ BENCH_OPTIONS = {
     "trace": {"triangles", "frames", "repeats", "out"},    # a traced query runs on one thread
     "contour": {"triangles", "frames", "repeats", "out"},  # contour times are one thread's
 }
-BENCH_SKIPS = {"all": ("scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"), "first-hit": ("steps",)}
 MAX_BENCH_FRAMES = 10_000  # frames per query sequence: beyond this a typo, not a benchmark
 MAX_BENCH_REPEATS = 1_000
 
@@ -197,7 +195,7 @@ MAX_BENCH_REPEATS = 1_000
 def _check_bench_args(args) -> None:
     """The bench options, checked before minutes of work (each names its option); then the
     defaults of --triangles, --frames and --out."""
-    from conecull.datasets.checks import count, fits_in_memory
+    from conecull.datasets.checks import count, fits_in_memory, writable_folder
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
                                "out", "threads") if getattr(args, name) is not None}
@@ -238,27 +236,10 @@ def _check_bench_args(args) -> None:
 
         _scenes_of(args)
     if args.skip is not None:
-        sections = BENCH_SKIPS[args.suite]
-        unknown = set(filter(None, args.skip.split(","))) - set(sections)
-        if unknown:
-            raise ValueError(f"--skip: {args.suite} can leave out {', '.join(repr(x) for x in sections)}, "
-                             f"got {sorted(unknown)}")
-    _check_out_folder(args.out)  # last: a refused option leaves no folder behind
+        from conecull.app.bench import check_skip
 
-
-def _check_out_folder(out: str) -> None:
-    """The folder the results go to, created now: a path that cannot be one fails before the run
-    (its JSON is written at the end)."""
-    if not out:
-        raise ValueError("--out: expected a folder path, got ''")
-    if os.path.exists(out) and not os.path.isdir(out):
-        raise ValueError(f"--out: '{out}' exists and is not a folder")
-    try:
-        os.makedirs(out, exist_ok=True)
-    except OSError as e:
-        raise ValueError(f"--out: cannot create folder '{out}' ({e.strerror or e})") from None
-    if not os.access(out, os.W_OK | os.X_OK):
-        raise ValueError(f"--out: cannot write into folder '{out}'")
+        check_skip(args.suite, args.skip)
+    writable_folder("--out", args.out)  # last: a refused option leaves no folder behind
 
 
 def _run(args) -> int:

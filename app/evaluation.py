@@ -656,10 +656,7 @@ def run_all(args) -> int:
     args.repeats = args.repeats or 3
     scenes = _scenes_of(args)
     sizes = SIZES if args.sizes is None else parse_sizes(args.sizes)
-    skip = set(args.skip.split(",")) if args.skip else set()
-    unknown = skip - {"scenes", "steps", "ipctk", "contour", "ccd", "scaling", "threads"}
-    if unknown:
-        raise ValueError(f"--skip: unknown sections {sorted(unknown)}")
+    skip = bench.check_skip("all", args.skip)
     results = {"machine": {"cpu": platform.processor() or platform.machine(), "cores": os.cpu_count(),
                            "python": platform.python_version()}, "threads": threads, "repeats": args.repeats}
     tee = _Tee(sys.stdout)

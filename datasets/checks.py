@@ -91,6 +91,23 @@ def writable_file(name: str, path, example: str = "run.rrd") -> str:
     return path
 
 
+def writable_folder(name: str, path) -> str:
+    """A folder that results can be written into, created now: checked before the work whose
+    results go there."""
+    if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
+        raise ValueError(f"{name}: expected a folder path, got {path!r}")
+    path = os.fspath(path)
+    if os.path.exists(path) and not os.path.isdir(path):
+        raise ValueError(f"{name}: '{path}' exists and is not a folder")
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"{name}: cannot create folder '{path}' ({e.strerror or e})") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise ValueError(f"{name}: cannot write into folder '{path}'")
+    return path
+
+
 def _real_array(name: str, value) -> np.ndarray:
     if isinstance(value, (str, bytes)) or value is None:
         raise ValueError(f"{name}: expected an array of coordinates, got {type(value).__name__}")
@@ -114,20 +131,17 @@ def _first_non_finite(a: np.ndarray) -> str:
         f"frame {idx[0]} has a non-finite coordinate {a[idx]} at {where}"
 
 
-# The queries' exact predicates take non-zero coordinate magnitudes in [2^-128, 2^128] (the core
-# refuses others); checked here too, so a file's coordinate is refused with the file named.
-_LOWEST, _HIGHEST = 2.0**-128, 2.0**128
-
-
 def _first_out_of_range(a: np.ndarray, of: str = "") -> str | None:
-    m = np.abs(a)
-    bad = (m != 0) & ((m < _LOWEST) | (m > _HIGHEST))
+    """The first coordinate the queries refuse (_api.RANGE_RULE), said here so that a file's
+    coordinate is refused with the file named."""
+    from conecull._api import RANGE_RULE, _outside_range
+
+    bad = _outside_range(a)
     if not bad.any():
         return None
     idx = tuple(int(i) for i in np.argwhere(bad)[0])
     where = f"at row {idx[-2]}, column {idx[-1]}" if a.ndim == 2 else f"in frame {idx[0]} at row {idx[-2]}, column {idx[-1]}"
-    return (f"coordinate {float(a[idx])!r} {where}{of} is outside the supported range: non-zero magnitudes must lie in "
-            "[2^-128, 2^128] for the predicates to stay exact (rescale the mesh)")
+    return f"coordinate {float(a[idx])!r} {where}{of} is outside the supported range: {RANGE_RULE} (rescale the mesh)"
 
 
 def points(name: str, value) -> np.ndarray:

@@ -347,6 +347,17 @@ def _as_threads(threads) -> int:
     return int(threads)
 
 
+# The exact predicates take non-zero coordinate magnitudes in [2^-128, 2^128] (the core refuses
+# others); the checks that can name more than the core can (one point, a file) use these.
+RANGE_RULE = "non-zero magnitudes must lie in [2^-128, 2^128] for the predicates to stay exact"
+
+
+def _outside_range(a: np.ndarray) -> np.ndarray:
+    """Per coordinate: non-zero and outside [2^-128, 2^128] in magnitude."""
+    m = np.abs(a)
+    return (m != 0) & ((m < 2.0**-128) | (m > 2.0**128))
+
+
 def _as_point(x, name: str) -> np.ndarray:
     a = _asarray(x, name)
     if a.dtype.kind not in "fiu":
@@ -355,12 +366,12 @@ def _as_point(x, name: str) -> np.ndarray:
         raise ValueError(f"{name}: expected shape (3,), got {a.shape}")
     p = _as_float64(a, name)
     # The core's checks would speak of a row and of a mesh: here it is one point.
-    for k, v in enumerate(p.tolist()):
+    for k, (v, outside) in enumerate(zip(p.tolist(), _outside_range(p).tolist())):
         if not math.isfinite(v):
             raise ValueError(f"{name}: non-finite coordinate {v!r} (component {k})")
-        if v != 0.0 and not 2.0**-128 <= abs(v) <= 2.0**128:
-            raise ValueError(f"{name}: coordinate {v!r} (component {k}) is outside the supported range: non-zero "
-                             "magnitudes must lie in [2^-128, 2^128] for the predicates to stay exact (rescale the input)")
+        if outside:
+            raise ValueError(f"{name}: coordinate {v!r} (component {k}) is outside the supported range: {RANGE_RULE} "
+                             "(rescale the input)")
     return _as_positions(p.reshape(1, 3), 1, name)
 
 
