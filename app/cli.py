@@ -77,7 +77,7 @@ def main(argv: list[str] | None = None) -> int:
                         "ccd: what accuracy costs in time; contour: contour test time, ours vs the sct and cbc "
                         "baselines (Fig. 9); threads: 1 thread vs --threads; first-hit: stop_at_first against the "
                         "full DCD and CCD queries on the real steps and the generated fold; front: the front "
-                        "size table alone (Fig. 11, counters only) on --scenes, and on each last frame the front no "
+                        "size table alone (Fig. 11, DCD and CCD, counters only) on --scenes, and on each last frame the front no "
                         "normal-cone test could cull")
     p.add_argument("--scenes", help="all, front: comma-separated scenes (default the paper-sized ones: "
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")

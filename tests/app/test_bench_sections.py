@@ -100,6 +100,9 @@ def test_bench_front(tmp_path, capsys):
         nc, ab = r["nc+front"], r["aabb+front"]
         assert len(nc) == len(ab) == r["frames"] and all(a <= b for a, b in zip(nc, ab))
         assert r["front_ratio"] == pytest.approx(statistics.median(a / b for a, b in zip(nc, ab) if b))
+        cnc, cab = r["ccd_nc+front"], r["ccd_aabb+front"]  # Fig. 11's CCD row: the last 8 frames' steps
+        assert len(cnc) == len(cab) == min(8, r["frames"]) - 1 and all(a <= b for a, b in zip(cnc, cab))
+        assert r["ccd_front_ratio"] == pytest.approx(statistics.median(a / b for a, b in zip(cnc, cab) if b))
         bound = r["bound"]  # the last frame: no cone test keeps less than the bound, ours no less than it
         assert bound is not None or not in_ci(), "scipy is in the test extra: CI computes the bound"
         if bound is not None:
