@@ -57,22 +57,40 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         ++boxes;
         if (triangle_domain && b.u0 + b.v0 > 1.0) continue;  // dyadic sums: exact
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        Vec3 f[8];  // corner c: t from bit 0, u from bit 1, v from bit 2
         for (int c = 0; c < 8; ++c) {
-            const Vec3 f = corner_value(m, c & 1 ? b.t1 : b.t0, c & 2 ? b.u1 : b.u0, c & 4 ? b.v1 : b.v0);
+            f[c] = corner_value(m, c & 1 ? b.t1 : b.t0, c & 2 ? b.u1 : b.u0, c & 4 ? b.v1 : b.v0);
             for (int k = 0; k < 3; ++k) {
-                lo[k] = std::min(lo[k], f[k]);
-                hi[k] = std::max(hi[k], f[k]);
+                lo[k] = std::min(lo[k], f[c][k]);
+                hi[k] = std::max(hi[k], f[c][k]);
             }
         }
         bool excluded = false;
         for (int k = 0; k < 3; ++k) excluded |= lo[k] - err > 0.0 || hi[k] + err < 0.0;
         if (excluded) continue;
-        if (b.depth >= 3 * opt.max_depth || boxes >= opt.max_boxes) {  // undecided at the tolerance: contact
+        // Split, among the parameters still wider than the tolerance 2^-max_depth, the one along
+        // which F changes most (the largest change of a component along the box's edge from its
+        // first corner in that direction: one edge, since this runs for every box). Round robin
+        // refined all three alike: where contact is only possible near one end of the step
+        // (everything meeting at t = 1) it split u and v as often as t, and the boxes grew 4x per
+        // halving of t (3 ms per toi bound, measured; now 0.01 ms). Measured on the real steps:
+        // conservative mode 6x faster on cloth-funnel, 1.7x on rod-twist, with fewer false
+        // positives; ~10% slower on the generated folds, whose 25K true contacts each go down to the
+        // tolerance.
+        const double tol = std::ldexp(1.0, -opt.max_depth);
+        const double width[3] = {b.t1 - b.t0, b.u1 - b.u0, b.v1 - b.v0};
+        int axis = -1;
+        double most = -1.0;
+        for (int a = 0; a < 3; ++a) {
+            if (!(width[a] > tol)) continue;
+            double change = 0.0;
+            for (int k = 0; k < 3; ++k) change = std::max(change, std::fabs(f[1 << a][k] - f[0][k]));
+            if (change > most) most = change, axis = a;
+        }
+        if (axis < 0 || boxes >= opt.max_boxes) {  // undecided at the tolerance: contact
             if (first_t) *first_t = b.t0;  // the smallest t0 of all boxes left: no contact before it
             return true;
         }
-        // Split the parameter that was split least (round robin keeps boxes cubical).
-        const int axis = b.depth % 3;
         Box l = b, r = b;
         l.depth = r.depth = b.depth + 1;
         if (axis == 0) l.t1 = r.t0 = 0.5 * (b.t0 + b.t1);

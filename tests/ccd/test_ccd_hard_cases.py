@@ -94,3 +94,16 @@ def test_toi_is_a_lower_bound_on_the_earliest_contact():
         t_true = z0 / (z0 - z1)
         t = res.toi[rows.index([3, 0])]
         assert t <= t_true and t_true - t < 1e-5
+
+
+def test_toi_when_everything_meets_at_the_end_of_the_step():
+    """Two triangles, one above the other, shrinking onto one point at t = 1: every contact is at
+    t = 1 exactly, on a whole plane of the search's (t, u, v) box. The bound must still come
+    within the search's tolerance (2^-20) of 1; splitting u and v as often as t ran out of
+    boxes at 1 - 2^-7 (and took 3 ms per contact)."""
+    import conecull
+
+    V0 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0.2, 0.2, 1], [1.2, 0.2, 1], [0.2, 1.2, 1]], float)
+    res = conecull.SelfCollider(conecull.Mesh(np.array([[0, 1, 2], [3, 4, 5]]))).ccd(V0, np.zeros_like(V0), toi=True)
+    assert len(res.vf) + len(res.ee) == 15  # every vertex-face and edge-edge pair meets at the point
+    assert (res.toi <= 1.0).all() and (1.0 - res.toi <= 2.0**-20).all(), res.toi

@@ -29,7 +29,7 @@ namespace conecull {
 enum class Arithmetic { kFloat, kConservative, kExact };
 
 struct CcdOptions {
-    int max_depth = 24;          // subdivisions per parameter: boxes below 2^-24 stay "contact"
+    int max_depth = 24;          // boxes 2^-24 wide in every parameter that stay undecided: "contact"
     int max_boxes = 20000;       // budget per query; exceeded -> "contact" (conservative)
 };
 
@@ -52,9 +52,9 @@ bool edge_edge_ccd(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d
                    const Vec3& c1, const Vec3& d1, Arithmetic mode, const CcdOptions& opt = {});
 
 // For a pair in contact: a lower bound on its earliest contact time: the inclusion search,
-// visiting boxes in order of their start time, stops at the first one it cannot exclude at
-// depth 20 (or when its budget runs out); every box starting earlier was excluded, so no
-// contact happens before that box's start.
+// visiting boxes in order of their start time, stops at the first one it cannot exclude once
+// 2^-20 wide in t, u and v (or when its budget runs out); every box starting earlier was
+// excluded, so no contact happens before that box's start.
 double vertex_face_toi_lower_bound(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                                    const Vec3& a1, const Vec3& b1, const Vec3& c1);
 double edge_edge_toi_lower_bound(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
