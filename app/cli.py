@@ -196,6 +196,7 @@ def _check_bench_args(args) -> None:
     """The bench options, checked before minutes of work (each names its option); then the
     defaults of --triangles, --frames and --out."""
     from conecull.datasets.checks import count, fits_in_memory, writable_folder
+    from conecull.app.evaluation import TIMED_FRAMES
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
                                "out", "threads") if getattr(args, name) is not None}
@@ -218,7 +219,7 @@ def _check_bench_args(args) -> None:
     if args.from_json is not None and not args.from_json:
         raise ValueError("--from-json: expected the path of a paper.json, got ''")
     args.triangles = 64000 if args.triangles is None else args.triangles
-    args.frames = 8 if args.frames is None else args.frames
+    args.frames = TIMED_FRAMES if args.frames is None else args.frames
     args.out = "bench-results" if args.out is None else args.out
     # The generated sheet's frames are held at once (positions: 24 bytes per vertex, about half as
     # many vertices as triangles); a size beyond this machine is refused, not swapped through.

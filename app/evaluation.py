@@ -38,6 +38,7 @@ PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy
 # the same motion 4x finer (half an edge per step), like the cloth scenes.
 EVAL_FRAMES = {"squishy": 80}
 COUNT_FRAMES = 60  # Fig. 11 and Fig. 1 are drawn over (at most) the last 60 frames
+TIMED_FRAMES = 8  # `bench all`'s default --frames: the last frames whose queries are timed
 DCD_METHODS = conecull.METHODS
 CCD_METHODS = conecull.CCD_METHODS
 SIZES = (16000, 64000, 256000, 1000000)
@@ -161,9 +162,10 @@ def _scenes_of(args) -> tuple:
 
 def run_front(args) -> int:
     """`conecull bench front`: Fig. 11 alone (front entries of nc+front against aabb+front after
-    each DCD query, every frame of each scene, at most the last COUNT_FRAMES; and after each exact
-    CCD query over the steps `bench all` times), counters only, so no timing and no repeats; and on each scene's last frame, the front no cone test could cull
-    (app/front_bound.py); JSON front.json."""
+    each DCD query, every frame of each scene, at most the last COUNT_FRAMES; and after each
+    exact CCD query over the last TIMED_FRAMES), counters only, so no timing and no repeats; and
+    on each scene's last frame, the front no cone test could cull (app/front_bound.py); JSON
+    front.json."""
     from conecull.app.front_bound import front_bound, scipy_linprog
     from conecull.datasets import load
 
@@ -175,8 +177,9 @@ def run_front(args) -> int:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
         _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads)
-        # Fig. 11's CCD row: the steps `bench all` times (its default --frames, 8).
-        _, _, ccd = time_sequence(F, _window(P, 8), ("aabb+front", "nc+front"), 1, ccd=True, threads=threads)
+        # Fig. 11's CCD row: the steps `bench all` times (by default).
+        _, _, ccd = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
+                                  threads=threads)
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
                      "bound": front_bound(F, window[0], window[-1], linprog) if linprog else None})
     _fig11_table(rows)

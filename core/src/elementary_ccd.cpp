@@ -69,25 +69,31 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         for (int k = 0; k < 3; ++k) excluded |= lo[k] - err > 0.0 || hi[k] + err < 0.0;
         if (excluded) continue;
         // Split, among the parameters still wider than the tolerance 2^-max_depth, the one along
-        // which F changes most (the largest change of a component along the box's edge from its
-        // first corner in that direction: one edge, since this runs for every box). Round robin
-        // refined all three alike: where contact is only possible near one end of the step
-        // (everything meeting at t = 1) it split u and v as often as t, and the boxes grew 4x per
-        // halving of t (3 ms per toi bound, measured; now 0.01 ms). Measured on the real steps:
-        // conservative mode 6x faster on cloth-funnel, 1.7x on rod-twist, with fewer false
-        // positives; ~10% slower on the generated folds, whose 25K true contacts each go down to the
-        // tolerance.
+        // which F changes most. Why not round robin: where contact is possible only near one end
+        // of the step (everything meeting at t = 1), it refined u and v as often as t, and the
+        // boxes grew 4x per halving of t until the budget ran out (README, "Conservative mode's
+        // splitting"). The change along a parameter is measured on the box's edge from its first
+        // corner in that direction; a toi bound, whose quality depends on splitting t wherever
+        // F moves with t, takes the largest over all four parallel edges (one edge can show no
+        // change in t while the others do: the bound then stayed at t0 = 0); the yes/no search
+        // keeps one edge, which measured 10-20% faster on the real steps (app/BENCHMARKS.md).
         const double tol = std::ldexp(1.0, -opt.max_depth);
         const double width[3] = {b.t1 - b.t0, b.u1 - b.u0, b.v1 - b.v0};
         int axis = -1;
         double most = -1.0;
         for (int a = 0; a < 3; ++a) {
             if (!(width[a] > tol)) continue;
+            const int bit = 1 << a;
             double change = 0.0;
-            for (int k = 0; k < 3; ++k) change = std::max(change, std::fabs(f[1 << a][k] - f[0][k]));
+            for (int c = 0; c < (first_t ? 8 : 1); ++c) {
+                if (c & bit) continue;
+                for (int k = 0; k < 3; ++k) change = std::max(change, std::fabs(f[c | bit][k] - f[c][k]));
+            }
             if (change > most) most = change, axis = a;
         }
-        if (axis < 0 || boxes >= opt.max_boxes) {  // undecided at the tolerance: contact
+        // Undecided at the tolerance: contact. (The depth cap only backs up the widths: a
+        // max_depth beyond the doubles' resolution could not narrow a box further.)
+        if (axis < 0 || b.depth >= 3 * opt.max_depth || boxes >= opt.max_boxes) {
             if (first_t) *first_t = b.t0;  // the smallest t0 of all boxes left: no contact before it
             return true;
         }

@@ -107,3 +107,23 @@ def test_toi_when_everything_meets_at_the_end_of_the_step():
     res = conecull.SelfCollider(conecull.Mesh(np.array([[0, 1, 2], [3, 4, 5]]))).ccd(V0, np.zeros_like(V0), toi=True)
     assert len(res.vf) + len(res.ee) == 15  # every vertex-face and edge-edge pair meets at the point
     assert (res.toi <= 1.0).all() and (1.0 - res.toi <= 2.0**-20).all(), res.toi
+
+
+def test_toi_when_one_edge_of_the_box_hides_the_motion():
+    """A review's case: vertex 0 slides in the plane of face (1, 2, 3), whose first two corners
+    coincide at t = 0, and touches it only at t = 1. Along the search box's first t-edge F hardly
+    changes, while along the other three it does; measured on that one edge, t was never split
+    and the bound stayed at 0 (valid, but useless). Every contact here is at t = 1; each bound
+    must come within a few boxes of the search's tolerance (2^-20) of it, also with the face made
+    non-degenerate."""
+    import conecull
+
+    V0 = np.array([[0, 1, 0], [0, -1, 0], [0, -1, 0], [-1, 1, 0], [50, 50, 0], [51, 50, 0]], float)
+    V1 = np.array([[0, 2, 0], [0, 0, 0], [2, 2, 0], [-1, 2, 0], [50, 50, 0], [51, 50, 0]], float)
+    col = conecull.SelfCollider(conecull.Mesh(np.array([[1, 2, 3], [0, 4, 5]])))
+    for nudge in (0.0, 1e-3, 1e-1):
+        W0 = V0.copy()
+        W0[2, 0] = nudge
+        res = col.ccd(W0, V1, toi=True)
+        assert res.vf.tolist() == [[0, 0]], (nudge, res.vf, res.ee)
+        assert (1.0 - res.toi <= 2.0**-16).all() and (res.toi <= 1.0).all(), (nudge, res.toi)
