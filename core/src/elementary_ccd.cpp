@@ -50,6 +50,7 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
     stack.push_back({0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0});
     const auto later = [](const Box& p, const Box& q) { return p.t0 > q.t0 || (p.t0 == q.t0 && p.depth < q.depth); };
     int boxes = 0;
+    const double tol = std::ldexp(1.0, -opt.max_depth);  // a box this wide in every parameter is undecided
     while (!stack.empty()) {
         if (first_t) std::pop_heap(stack.begin(), stack.end(), later);
         const Box b = stack.back();
@@ -77,7 +78,6 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         // F moves with t, takes the largest over all four parallel edges (one edge can show no
         // change in t while the others do: the bound then stayed at t0 = 0); the yes/no search
         // keeps one edge, which measured 10-20% faster on the real steps (app/BENCHMARKS.md).
-        const double tol = std::ldexp(1.0, -opt.max_depth);
         const double width[3] = {b.t1 - b.t0, b.u1 - b.u0, b.v1 - b.v0};
         int axis = -1;
         double most = -1.0;
