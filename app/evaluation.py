@@ -31,6 +31,7 @@ import numpy as np
 
 import conecull
 from conecull.app.bench import shared_steps
+from conecull.app.targets import judge, print_targets
 
 PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
 # The squishy ball's default 20 frames sample one drop and squash coarsely: a step moves vertices
@@ -318,6 +319,7 @@ def render_from_json(path: str, out: str) -> int:
                 _fig1_table(results["scenes"])
             if results.get("steps"):
                 _fig10_tables(results["steps"], "scene")
+            print_targets(judge(results))
     except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError) as e:
         raise ValueError(f"{not_paper} (a row lacks or mistypes {e})") from None
     print(tables.getvalue(), end="")
@@ -696,11 +698,13 @@ def run_all(args) -> int:
             print("## Contour tests (Fig. 9)")
             print()
             bench.run_contour_bench(args.triangles, min(args.frames, 8) if args.frames > 0 else 8, args.repeats, out)
+            results["contour"] = _section_json(out, "contour.json")
             print()
         if "ccd" not in skip:
             print("## What accuracy costs in time")
             print()
             bench.run_ccd_bench(args.triangles, 0, args.repeats, out, threads=threads)
+            results["ccd"] = _section_json(out, "ccd.json")
             print()
         if "scaling" not in skip and sizes:
             run_scaling(sizes, 4, args.repeats, threads, results)
@@ -708,7 +712,10 @@ def run_all(args) -> int:
             print("## Threads")
             print()
             bench.run_threads_bench(args.triangles, 4, args.repeats, out, threads=2)
+            results["threads_bench"] = _section_json(out, "threads.json")
             print()
+        results["targets"] = judge(results)
+        print_targets(results["targets"])
         plots = _plots(results, out)
         results["seconds"] = time.perf_counter() - t0
         print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'}; JSON: {out}/paper.json "
@@ -719,6 +726,12 @@ def run_all(args) -> int:
         json.dump(results, fh, indent=1, default=_json_default)
     print(f"wrote {out}/report.md")
     return 0
+
+
+def _section_json(out, name):
+    """A section's own JSON (the `contour`, `ccd` and `threads` suites write one), for the targets."""
+    with open(os.path.join(out, name)) as fh:
+        return json.load(fh)
 
 
 def _json_default(x):

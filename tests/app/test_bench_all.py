@@ -32,11 +32,24 @@ def test_bench_all_small(tmp_path, capsys):
     want = [col.dcd(V).stats["front_entries"] for V in P]
     assert [s["front_entries"] for s in fold["all_frames"]["nc+front"]] == want
     assert len(res["scaling"]) == 2
+    # The targets table is judged from this run's own figures: here the scenes and the contour
+    # test ran, while ipctk, threads and the sizes around 64K did not.
+    targets = {t["target"]: t for t in res["targets"]}
+    front = next(t for name, t in targets.items() if name.startswith("front entries") and "DCD" in name)
+    assert front["values"]["ratios"] == {r["scene"]: r["front_ratio"] for r in res["scenes"]}
+    faster = next(t for name, t in targets.items() if name.startswith("nc+front faster") and "DCD" in name)
+    assert faster["values"]["vs_nc"]["fold"] == fold["dcd_ms"]["nc"] / fold["dcd_ms"]["nc+front"]
+    contour = next(t for name, t in targets.items() if name.startswith("contour test"))
+    assert contour["verdict"] in ("met", "not met") and set(contour["values"]["ratios"]) == {"DCD sct", "DCD cbc", "CCD cbc"}
+    for name, t in targets.items():
+        if "ipctk" in name or "threads" in name or "per triangle" in name or "float" in name:
+            assert t["verdict"] == "not measured", name
+    assert "## The targets, from this run" in report
     # Re-rendering from the JSON gives the same scene tables, without timing anything.
     capsys.readouterr()
     assert main(["bench", "--from-json", str(out / "paper.json"), "--out", str(tmp_path / "re")]) == 0
     again = capsys.readouterr().out
-    for title in ("Front size (Fig. 11)", "Culling efficiency (Fig. 1)"):
+    for title in ("Front size (Fig. 11)", "Culling efficiency (Fig. 1)", "The targets, from this run"):
         section = report[report.index(title):].split("\n\n")[1]
         assert section in again
     from shared_data import in_ci
