@@ -86,6 +86,10 @@ def main(argv: list[str] | None = None) -> int:
                                    "(default 16000,64000,256000,1000000)")
     p.add_argument("--from-json", metavar="PAPER_JSON",
                    help="all: re-render the scene tables and plots of a finished run (its paper.json) into --out")
+    p.add_argument("--ipctk-candidates", type=int, metavar="N",
+                   help="all: run ipctk's narrow phase (one Python call per candidate) on steps with at most N "
+                        "candidates (default 10000000); above, only its broad phase and stepsize bound. It holds "
+                        "about 0.5 KB per candidate: n-body's 31.8M took 16 GB")
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads; first-hit: steps (the shared "
                                   "real steps)")
@@ -179,7 +183,8 @@ def _check(args) -> int:
 
 # The options each bench suite reads (the suite itself aside); any other one typed is an error.
 BENCH_OPTIONS = {
-    "all": {"scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats", "out", "threads"},
+    "all": {"scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats", "out", "threads",
+            "ipctk_candidates"},
     "front": {"scenes", "resolution", "out", "threads"},
     "dcd": {"triangles", "frames", "repeats", "out", "threads"},
     "ccd": {"triangles", "repeats", "out", "threads"},  # single steps: no frame count
@@ -190,6 +195,7 @@ BENCH_OPTIONS = {
 }
 MAX_BENCH_FRAMES = 10_000  # frames per query sequence: beyond this a typo, not a benchmark
 MAX_BENCH_REPEATS = 1_000
+MAX_IPCTK_CANDIDATES = 10**9  # the narrow phase's memory is checked per step, against its real count
 
 
 def _check_bench_args(args) -> None:
@@ -199,7 +205,7 @@ def _check_bench_args(args) -> None:
     from conecull.app.evaluation import TIMED_FRAMES
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
-                               "out", "threads") if getattr(args, name) is not None}
+                               "out", "threads", "ipctk_candidates") if getattr(args, name, None) is not None}
     if args.suite == "all" and args.from_json is not None:
         allowed = {"from_json", "out"}  # a re-render times nothing
     else:
@@ -213,6 +219,7 @@ def _check_bench_args(args) -> None:
         raise ValueError(f"{option}: {why} (options of `bench {args.suite}`: "
                          f"{', '.join('--' + o.replace('_', '-') for o in sorted(allowed))})")
     for name, value, low, high in (("--threads", args.threads, 1, 1024), ("--repeats", args.repeats, 1, MAX_BENCH_REPEATS),
+                                   ("--ipctk-candidates", args.ipctk_candidates, 0, MAX_IPCTK_CANDIDATES),
                                    ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None)):
         if value is not None:
             count(name, value, low, high)

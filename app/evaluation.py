@@ -32,6 +32,7 @@ import numpy as np
 import conecull
 from conecull.app.bench import shared_steps
 from conecull.app.targets import judge, print_targets
+from conecull.datasets.checks import memory_bytes
 
 PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
 # The squishy ball's default 20 frames sample one drop and squash coarsely: a step moves vertices
@@ -437,6 +438,9 @@ def run_scaling(sizes, n_frames, repeats, threads, results):
 
 
 IPCTK_MAX_CANDIDATES = 10_000_000  # beyond this the per-candidate loop needs GBs of Python objects
+# What the narrow phase holds per candidate (ipctk's candidate objects, their ids and positions):
+# the process peaked at 15.9 GB (maximum RSS) with n-body's 31.8M candidates (2026-11-27).
+IPCTK_BYTES_PER_CANDIDATE = 512
 IPCTK_REPEAT_CANDIDATES = 200_000  # above this ipctk's narrow phase runs once (minutes per run)
 
 
@@ -468,7 +472,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
         A0, A1 = np.asfortranarray(V0), np.asfortranarray(V1)
         cm = ipctk.CollisionMesh(A0, E, Fi)
         ti = ipctk.TightInclusionCCD()
-        broad, narrow, stepsize, found = [], [], [], None
+        broad, narrow, stepsize, found, not_run = [], [], [], None, None
         for rep in range(repeats):
             t = time.perf_counter()
             cand = ipctk.Candidates()
@@ -480,7 +484,10 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
                 t = time.perf_counter()
                 cand.compute_collision_free_stepsize(cm, A0, A1)
                 stepsize.append(time.perf_counter() - t)
-            if len(cand) > max_candidates or (rep > 0 and len(cand) > IPCTK_REPEAT_CANDIDATES):
+            if rep == 0 and len(cand) <= max_candidates and IPCTK_BYTES_PER_CANDIDATE * len(cand) > memory_bytes():
+                not_run = (f"it would need about {IPCTK_BYTES_PER_CANDIDATE * len(cand) / 2**30:.3g} GiB, more than "
+                           f"this machine's {memory_bytes() / 2**30:.3g}")
+            if not_run or len(cand) > max_candidates or (rep > 0 and len(cand) > IPCTK_REPEAT_CANDIDATES):
                 break
             fv, ee = cand.fv_candidates, cand.ee_candidates
             ids_fv = np.array([(c.vertex_id, c.face_id) for c in fv], np.int64).reshape(-1, 2)
@@ -549,6 +556,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
             narrow_cells = (f"{nr:.1f} | {b + nr:.1f} | {row['candidates']} | {row['ipctk_fn']} / {row['ipctk_fp']} | "
                             f"{o:.1f} | {fn_o} / {fp_o} | {row['ccd_speedup']:.1f}x")
         else:
+            row["ipctk_not_run"] = not_run or f"more than {max_candidates} candidates"
             narrow_cells = (f"not run | - | {row['candidates']} | - | {o:.1f} | {fn_o} / {fp_o} | "
                             f">= {(b + ss) / o:.1f}x (stepsize)")
         row.update(ipctk_step_free_ms=1e3 * statistics.median(free_t), ours_first_hit_ccd_ms=1e3 * statistics.median(ours_free),
@@ -563,7 +571,8 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
     print()
     print("(ipctk: Candidates.build with LBVH, then TightInclusionCCD (tolerance 1e-6, min distance 0) on every "
           "FV and EE candidate, one Python call each (about 2 us of call overhead against 10-100 us of work); "
-          f"'not run' above {max_candidates} candidates, where that loop needs GBs of Python objects; there the speed-up is "
+          f"'not run' above {max_candidates} candidates (--ipctk-candidates), or where that loop would need more memory "
+          f"than this machine has (about {IPCTK_BYTES_PER_CANDIDATE} bytes per candidate); there the speed-up is "
           "against broad phase + ipctk's native compute_collision_free_stepsize, which stops refining a candidate "
           "past the earliest impact found so far, so it is a lower bound. FN / FP against the ground truth; "
           "ours: SelfCollider(method='nc').ccd, exact; has_intersections against our DCD at the end pose, listing every "
@@ -693,7 +702,9 @@ def run_all(args) -> int:
         if "steps" not in skip:
             steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
         if "ipctk" not in skip:
-            run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results)
+            cap = getattr(args, "ipctk_candidates", None)
+            run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results,
+                      max_candidates=IPCTK_MAX_CANDIDATES if cap is None else cap)
         if "contour" not in skip:
             print("## Contour tests (Fig. 9)")
             print()

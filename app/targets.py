@@ -86,12 +86,14 @@ def _ipctk(rows):
         # the earliest impact, is a lower bound on its cost.
         bound = [(r["step"], (r["ipctk_broad_ms"] + r["ipctk_stepsize_ms"]) / r["ours_ms"])
                  for r in rows if "ccd_speedup" not in r]
+        why = {r["step"]: r.get("ipctk_not_run", "") for r in rows}
         enough = lambda v: v >= IPCTK_CCD  # noqa: E731
         parts = []
         if full:
             parts.append(f"{_span([v for _, v in full], '{:.0f}x')} on {len(full)} steps{_failing(full, enough, '{:.1f}x')}")
         if bound:
-            parts.append(", ".join(f"{n} >= {v:.1f}x (a lower bound: narrow phase not run)" for n, v in bound))
+            parts.append(", ".join(f"{n} >= {v:.1f}x (a lower bound: narrow phase not run"
+                                   f"{': ' + why[n] if why[n] else ''})" for n, v in bound))
         full_ok = all(enough(v) for _, v in full)
         bound_ok = all(enough(v) for _, v in bound)
         verdict = "not shown" if full_ok and not bound_ok else _verdict(full_ok)

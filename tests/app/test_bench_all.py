@@ -141,3 +141,35 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     assert r["step_free_speedup"] == r["ipctk_step_free_ms"] / r["ours_first_hit_ccd_ms"]
     rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # the cap: narrow phase not run, stated
     assert "ipctk_narrow_ms" not in rows[0] and "not run" in capsys.readouterr().out
+    assert rows[0]["ipctk_not_run"] == "more than 0 candidates"
+
+
+def test_ipctk_narrow_phase_is_not_run_beyond_the_machines_memory(monkeypatch, capsys):
+    """Under the candidate cap, but on a machine too small for the narrow phase's Python objects:
+    not run, and the row says why (a loop that swapped, or was killed, would be no benchmark)."""
+    from shared_data import import_or_skip
+
+    import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
+    from conecull.app import evaluation
+    from conecull.app.bench import _generated_ccd_steps
+
+    name, F, V0, V1, _, _ = _generated_ccd_steps(1500)[1]
+    monkeypatch.setattr(evaluation, "memory_bytes", lambda: 2**20)  # 1 MiB
+    rows = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})
+    r = rows[0]
+    assert "ipctk_narrow_ms" not in r and r["candidates"] * evaluation.IPCTK_BYTES_PER_CANDIDATE > 2**20
+    assert r["ipctk_not_run"].startswith("it would need about") and "more than this machine's 0.000977" in r["ipctk_not_run"]
+    assert "not run" in capsys.readouterr().out
+
+
+def test_ipctk_candidates_option_reaches_the_ipctk_section(tmp_path, monkeypatch):
+    """--ipctk-candidates sets the narrow phase's candidate limit; without it, the default."""
+    from conecull.app import evaluation
+
+    seen = []
+    monkeypatch.setattr(evaluation, "run_ipctk", lambda *a, max_candidates, **k: seen.append(max_candidates))
+    monkeypatch.setattr(evaluation, "shared_steps", lambda: [])
+    skip = ["--skip", "scenes,steps,contour,ccd,scaling,threads", "--triangles", "200"]
+    assert main(["bench", "all", *skip, "--ipctk-candidates", "7", "--out", str(tmp_path / "a")]) == 0
+    assert main(["bench", "all", *skip, "--out", str(tmp_path / "b")]) == 0
+    assert seen == [7, evaluation.IPCTK_MAX_CANDIDATES]

@@ -260,6 +260,8 @@ def test_check_bad_options(argv, message, capsys):
     (["bench", "dcd", "--repeats", "0"], "--repeats: expected an integer in [1, 1000], got 0"),
     (["bench", "dcd", "--triangles", "100000000000000"], "--triangles: a sheet of 100000000000000 triangles would need"),
     (["bench", "dcd", "--out", "/dev/null/x"], "--out: cannot create folder '/dev/null/x'"),
+    (["bench", "ccd", "--ipctk-candidates", "5"], "--ipctk-candidates: the ccd suite does not use it"),
+    (["bench", "all", "--ipctk-candidates", "-1"], "--ipctk-candidates: expected an integer in [0, 1000000000], got -1"),
 ])
 def test_bench_options_are_checked_before_any_work(argv, msg, capsys):
     """Exit code 2 with the option named, at once: an option the suite would ignore, a count out
