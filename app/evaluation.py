@@ -486,7 +486,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
                 stepsize.append(time.perf_counter() - t)
             if rep == 0 and len(cand) <= max_candidates and IPCTK_BYTES_PER_CANDIDATE * len(cand) > memory_bytes():
                 not_run = (f"it would need about {IPCTK_BYTES_PER_CANDIDATE * len(cand) / 2**30:.3g} GiB, more than "
-                           f"this machine's {memory_bytes() / 2**30:.3g}")
+                           f"this machine's {memory_bytes() / 2**30:.3g} GiB")
             if not_run or len(cand) > max_candidates or (rep > 0 and len(cand) > IPCTK_REPEAT_CANDIDATES):
                 break
             fv, ee = cand.fv_candidates, cand.ee_candidates
