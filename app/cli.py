@@ -205,7 +205,7 @@ def _check_bench_args(args) -> None:
     from conecull.app.evaluation import TIMED_FRAMES
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
-                               "out", "threads", "ipctk_candidates") if getattr(args, name, None) is not None}
+                               "out", "threads", "ipctk_candidates") if getattr(args, name) is not None}
     if args.suite == "all" and args.from_json is not None:
         allowed = {"from_json", "out"}  # a re-render times nothing
     else:

@@ -484,9 +484,9 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
                 t = time.perf_counter()
                 cand.compute_collision_free_stepsize(cm, A0, A1)
                 stepsize.append(time.perf_counter() - t)
-            if rep == 0 and len(cand) <= max_candidates and IPCTK_BYTES_PER_CANDIDATE * len(cand) > memory_bytes():
-                not_run = (f"it would need about {IPCTK_BYTES_PER_CANDIDATE * len(cand) / 2**30:.3g} GiB, more than "
-                           f"this machine's {memory_bytes() / 2**30:.3g} GiB")
+            need, have = IPCTK_BYTES_PER_CANDIDATE * len(cand), memory_bytes()
+            if rep == 0 and len(cand) <= max_candidates and need > have:
+                not_run = f"it would need about {need / 2**30:.3g} GiB, more than this machine's {have / 2**30:.3g} GiB"
             if not_run or len(cand) > max_candidates or (rep > 0 and len(cand) > IPCTK_REPEAT_CANDIDATES):
                 break
             fv, ee = cand.fv_candidates, cand.ee_candidates
@@ -702,9 +702,9 @@ def run_all(args) -> int:
         if "steps" not in skip:
             steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
         if "ipctk" not in skip:
-            cap = getattr(args, "ipctk_candidates", None)
+            cap = IPCTK_MAX_CANDIDATES if args.ipctk_candidates is None else args.ipctk_candidates
             run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results,
-                      max_candidates=IPCTK_MAX_CANDIDATES if cap is None else cap)
+                      max_candidates=cap)
         if "contour" not in skip:
             print("## Contour tests (Fig. 9)")
             print()

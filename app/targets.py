@@ -29,9 +29,12 @@ def _span(values, fmt="{:.2f}x"):
     return lo if lo == hi else lo.rstrip("x") + "–" + hi
 
 
-def _failing(named, ok, fmt="{:.2f}x"):
-    bad = [f"{n} {fmt.format(v)}" for n, v in named if not ok(v)]
-    return f" (not: {', '.join(bad)})" if bad else ""
+def _judged(named, ok, fmt="{:.2f}x", failing_fmt=None, after=""):
+    """For (name, value) pairs: the values' span, then `after`, then the failing ones named; and
+    whether all pass."""
+    bad = [f"{n} {(failing_fmt or fmt).format(v)}" for n, v in named if not ok(v)]
+    text = _span([v for _, v in named], fmt) + after + (f" (not: {', '.join(bad)})" if bad else "")
+    return text, not bad
 
 
 def _row(target, measured, verdict, **values):
@@ -46,10 +49,9 @@ def _front_faster(scenes, kind):
     vs_nc = [(r["scene"], r[f"{kind}_ms"]["nc"] / r[f"{kind}_ms"]["nc+front"]) for r in scenes]
     vs_aabb = [(r["scene"], r[f"{kind}_ms"]["aabb"] / r[f"{kind}_ms"]["nc+front"]) for r in scenes]
     faster = lambda v: v > 1.0  # noqa: E731
-    measured = (f"vs nc {_span([v for _, v in vs_nc])}{_failing(vs_nc, faster)}; "
-                f"vs aabb {_span([v for _, v in vs_aabb])}{_failing(vs_aabb, faster)}")
-    ok = all(faster(v) for _, v in vs_nc + vs_aabb)
-    return _row(target, measured, _verdict(ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb))
+    (nc_text, nc_ok), (aabb_text, aabb_ok) = _judged(vs_nc, faster), _judged(vs_aabb, faster)
+    return _row(target, f"vs nc {nc_text}; vs aabb {aabb_text}", _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc),
+                vs_aabb=dict(vs_aabb))
 
 
 def _front_share(scenes, key, label):
@@ -88,13 +90,13 @@ def _ipctk(rows):
                  for r in rows if "ccd_speedup" not in r]
         why = {r["step"]: r.get("ipctk_not_run", "") for r in rows}
         enough = lambda v: v >= IPCTK_CCD  # noqa: E731
-        parts = []
+        parts, full_ok = [], True
         if full:
-            parts.append(f"{_span([v for _, v in full], '{:.0f}x')} on {len(full)} steps{_failing(full, enough, '{:.1f}x')}")
+            text, full_ok = _judged(full, enough, "{:.0f}x", "{:.1f}x", after=f" on {len(full)} steps")
+            parts.append(text)
         if bound:
             parts.append(", ".join(f"{n} >= {v:.1f}x (a lower bound: narrow phase not run"
                                    f"{': ' + why[n] if why[n] else ''})" for n, v in bound))
-        full_ok = all(enough(v) for _, v in full)
         bound_ok = all(enough(v) for _, v in bound)
         verdict = "not shown" if full_ok and not bound_ok else _verdict(full_ok)
         out.append(_row(target, "; ".join(parts), verdict, speedups=dict(full), lower_bounds=dict(bound)))
@@ -105,11 +107,9 @@ def _ipctk(rows):
     else:
         first = [(r["step"], r["first_hit_speedup"]) for r in rows]
         listing = [(r["step"], r["dcd_speedup"]) for r in rows]
-        enough = lambda v: v >= IPCTK_DCD  # noqa: E731
-        measured = (f"{_span([v for _, v in first], '{:.1f}x')}{_failing(first, enough, '{:.1f}x')}; "
-                    f"listing every pair: {_span([v for _, v in listing], '{:.1f}x')}")
-        out.append(_row(target, measured, _verdict(all(enough(v) for _, v in first)),
-                        first_hit=dict(first), listing=dict(listing)))
+        text, ok = _judged(first, lambda v: v >= IPCTK_DCD, "{:.1f}x")
+        measured = f"{text}; listing every pair: {_span([v for _, v in listing], '{:.1f}x')}"
+        out.append(_row(target, measured, _verdict(ok), first_hit=dict(first), listing=dict(listing)))
     return out
 
 
@@ -129,9 +129,8 @@ def _threads(threads):
     named = [(r["query"], r["speedup"]) for r in (threads or {}).get("rows", ()) if r["threads"] > 1]
     if not named:
         return _row(target, "-", _verdict(None))
-    enough = lambda v: v >= THREADS_SPEEDUP  # noqa: E731
-    measured = f"{_span([v for _, v in named])} over {len(named)} queries{_failing(named, enough)}"
-    return _row(target, measured, _verdict(all(enough(v) for _, v in named)), speedups=dict(named))
+    measured, ok = _judged(named, lambda v: v >= THREADS_SPEEDUP, after=f" over {len(named)} queries")
+    return _row(target, measured, _verdict(ok), speedups=dict(named))
 
 
 def _accuracy(ccd):
@@ -143,9 +142,8 @@ def _accuracy(ccd):
     named = [(s, m["exact"] / m["float"]) for s, m in ms.items() if "exact" in m and "float" in m]
     if not named:
         return _row(target, "-", _verdict(None))
-    enough = lambda v: v <= EXACT_OVER_FLOAT  # noqa: E731
-    measured = f"{_span([v for _, v in named])} on {len(named)} steps{_failing(named, enough)}"
-    return _row(target, measured, _verdict(all(enough(v) for _, v in named)), exact_over_float=dict(named))
+    measured, ok = _judged(named, lambda v: v <= EXACT_OVER_FLOAT, after=f" on {len(named)} steps")
+    return _row(target, measured, _verdict(ok), exact_over_float=dict(named))
 
 
 def judge(results: dict) -> list:
