@@ -129,7 +129,9 @@ def _threads(threads):
     named = [(r["query"], r["speedup"]) for r in (threads or {}).get("rows", ()) if r["threads"] > 1]
     if not named:
         return _row(target, "-", _verdict(None))
-    measured, ok = _judged(named, lambda v: v >= THREADS_SPEEDUP, after=f" over {len(named)} queries")
+    runs = len((threads or {}).get("runs", ())) or 1
+    after = f" over {len(named)} queries" + (f", each the median of {runs} runs" if runs > 1 else "")
+    measured, ok = _judged(named, lambda v: v >= THREADS_SPEEDUP, after=after)
     return _row(target, measured, _verdict(ok), speedups=dict(named))
 
 

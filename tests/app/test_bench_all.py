@@ -173,3 +173,63 @@ def test_ipctk_candidates_option_reaches_the_ipctk_section(tmp_path, monkeypatch
     assert main(["bench", "all", *skip, "--ipctk-candidates", "7", "--out", str(tmp_path / "a")]) == 0
     assert main(["bench", "all", *skip, "--out", str(tmp_path / "b")]) == 0
     assert seen == [7, evaluation.IPCTK_MAX_CANDIDATES]
+
+
+def _threads_run_json(speedups):
+    """One threads run's JSON with the given 2-thread speed-ups per query (1-thread rows at 1.0)."""
+    rows = []
+    for (kind, query), s in speedups.items():
+        rows.append({"kind": kind, "query": query, "threads": 1, "query_ms": 10.0, "speedup": 1.0})
+        rows.append({"kind": kind, "query": query, "threads": 2, "query_ms": 10.0 / s, "speedup": s})
+    return {"triangles": 64000, "compute_ceiling": (1.95, 1.97), "rows": rows}
+
+
+def test_threads_section_takes_the_median_of_its_runs(capsys):
+    """One slow run among three does not decide the threads row: per query the median of the runs,
+    each run's speed-up kept (in run order) and printed."""
+    from conecull.app.evaluation import median_threads, print_threads
+
+    runs = [_threads_run_json({("dcd", "nc"): 1.80, ("ccd", "ccd exact"): 1.90}),
+            _threads_run_json({("dcd", "nc"): 1.46, ("ccd", "ccd exact"): 1.95}),
+            _threads_run_json({("dcd", "nc"): 1.76, ("ccd", "ccd exact"): 1.20})]
+    got = median_threads(runs)
+    two = {r["query"]: r for r in got["rows"] if r["threads"] == 2}
+    assert two["nc"]["speedup"] == 1.76 and two["nc"]["speedups"] == [1.80, 1.46, 1.76]
+    assert two["ccd exact"]["speedup"] == 1.90 and two["ccd exact"]["query_ms"] == pytest.approx(10.0 / 1.90)
+    assert got["runs"] == runs and len(got["compute_ceiling"]) == 3
+    print_threads(got)
+    out = capsys.readouterr().out
+    assert "| dcd nc | 1.80 1.46 1.76 | 1.76x | 10.00 | 5.68 |" in out
+    assert "| ccd exact | 1.90 1.95 1.20 | 1.90x |" in out
+    # the target is judged from the medians, and says so
+    from conecull.app.targets import judge
+
+    row = next(t for t in judge({"threads_bench": got}) if t["target"].startswith("2 threads"))
+    assert row["verdict"] == "met" and "each the median of 3 runs" in row["measured"]
+    assert row["values"]["speedups"] == {"nc": 1.76, "ccd exact": 1.90}
+
+
+def test_threads_runs_must_have_the_same_queries():
+    from conecull.app.evaluation import median_threads
+
+    with pytest.raises(ValueError, match="not in every run"):
+        median_threads([_threads_run_json({("dcd", "nc"): 1.8}), _threads_run_json({("dcd", "aabb"): 1.8})])
+
+
+def test_bench_all_runs_the_threads_section_three_times(tmp_path):
+    """The threads section alone at a toy size: three runs, each with its own JSON, and paper.json's
+    rows are their medians, with the results checked identical across thread counts in each run."""
+    from conecull.app.evaluation import THREAD_RUNS
+
+    out = tmp_path / "t"
+    rc = main(["bench", "all", "--skip", "scenes,steps,ipctk,contour,ccd,scaling", "--triangles", "2000",
+               "--repeats", "1", "--out", str(out)])
+    assert rc == 0 and THREAD_RUNS == 3
+    runs = [json.loads((out / "threads_runs" / str(k) / "threads.json").read_text()) for k in (1, 2, 3)]
+    res = json.loads((out / "paper.json").read_text())
+    assert res["threads_bench"]["runs"] == runs
+    for row in res["threads_bench"]["rows"]:
+        per_run = [next(r for r in run["rows"] if (r["kind"], r["query"], r["threads"]) ==
+                        (row["kind"], row["query"], row["threads"]))["speedup"] for run in runs]
+        assert row["speedups"] == per_run and row["speedup"] == sorted(per_run)[1]
+    assert "## Threads" in (out / "report.md").read_text()
