@@ -764,13 +764,13 @@ def _threads_run(args, out, runs):
 def median_threads(runs):
     """The threads section over several runs: per query and thread count, the median speed-up and
     query ms over the runs (rows shaped like one run's, plus each run's speed-up), and the runs."""
+    by_key = [{(r["kind"], r["query"], r["threads"]): r for r in run["rows"]} for run in runs]
     rows = []
-    for row in runs[0]["rows"]:
-        key = (row["kind"], row["query"], row["threads"])
-        same = [r for run in runs for r in run["rows"] if (r["kind"], r["query"], r["threads"]) == key]
-        if len(same) != len(runs):
+    for key in by_key[0]:  # the first run's order
+        if any(key not in run for run in by_key):
             raise ValueError(f"threads runs: {key} is not in every run")
-        rows.append({"kind": row["kind"], "query": row["query"], "threads": row["threads"],
+        same = [run[key] for run in by_key]
+        rows.append({"kind": key[0], "query": key[1], "threads": key[2],
                      "speedup": statistics.median(r["speedup"] for r in same),
                      "query_ms": statistics.median(r["query_ms"] for r in same),
                      "speedups": [r["speedup"] for r in same]})
