@@ -87,9 +87,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--from-json", metavar="PAPER_JSON",
                    help="all: re-render the scene tables and plots of a finished run (its paper.json) into --out")
     p.add_argument("--ipctk-candidates", type=int, metavar="N",
-                   help="all: run ipctk's narrow phase (one Python call per candidate) on steps with at most N "
-                        "candidates (default 10000000); above, only its broad phase and stepsize bound. It holds "
-                        "about 0.5 KB per candidate: n-body's 31.8M took 16 GB")
+                   help="all: run ipctk's narrow phase (one Python call per candidate) on at most N candidates "
+                        "of a step (default 10000000); above, on a random sample of N, whose time is a lower bound "
+                        "(0: not at all). It holds about 0.5 KB per candidate")
     p.add_argument("--skip", help="all: comma-separated sections to leave out: "
                                   "scenes,steps,ipctk,contour,ccd,scaling,threads; first-hit: steps (the shared "
                                   "real steps)")

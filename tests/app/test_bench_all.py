@@ -139,27 +139,96 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     # is_step_collision_free against ccd(stop_at_first): the step has contacts, both say so
     assert r["ipctk_step_free"] is False and r["ours_step_free"] is False and r["ours_step_free_full"] is False
     assert r["step_free_speedup"] == r["ipctk_step_free_ms"] / r["ours_first_hit_ccd_ms"]
-    rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # the cap: narrow phase not run, stated
+    rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # a limit of 0: narrow phase not run, stated
     assert "ipctk_narrow_ms" not in rows[0] and "not run" in capsys.readouterr().out
     assert rows[0]["ipctk_not_run"] == "more than 0 candidates"
+    assert rows[0]["ccd_speedup_lower"] == (rows[0]["ipctk_broad_ms"] + rows[0]["ipctk_stepsize_ms"]) / rows[0]["ours_ms"]
 
 
-def test_ipctk_narrow_phase_is_not_run_beyond_the_machines_memory(monkeypatch, capsys):
-    """Under the candidate cap, but on a machine too small for the narrow phase's Python objects:
-    not run, and the row says why (a loop that swapped, or was killed, would be no benchmark)."""
+def _fold_step():
+    from conecull.app.bench import _generated_ccd_steps
+
+    name, F, V0, V1, _, _ = _generated_ccd_steps(1500)[1]
+    return name, F, V0, V1
+
+
+def test_ipctk_sample_is_uniform_seeded_and_says_why():
+    from conecull.app.evaluation import IPCTK_BYTES_PER_CANDIDATE, ipctk_sample
+
+    idx, why = ipctk_sample(10, 10, 2**30)
+    assert idx.tolist() == list(range(10)) and why == ""
+    idx, why = ipctk_sample(1000, 100, 2**30)
+    assert len(idx) == 100 and len(set(idx.tolist())) == 100 and (np.diff(idx) > 0).all() and idx.max() < 1000
+    assert why == "more than 100 candidates" and (ipctk_sample(1000, 100, 2**30)[0] == idx).all()  # seeded
+    assert 100 < idx.max() and idx.min() < 900  # drawn from all of them, not the first 100
+    idx, why = ipctk_sample(1000, 500, 40 * IPCTK_BYTES_PER_CANDIDATE)  # memory holds 40
+    assert len(idx) == 40 and why.startswith("all 1000 would need about")
+    assert len(ipctk_sample(1000, 0, 2**30)[0]) == 0
+
+
+def test_ipctk_narrow_phase_on_a_sample_agrees_with_the_full_one():
+    """The sampled narrow phase fetches candidates by index: its colliding pairs must be exactly
+    the full narrow phase's pairs among the sampled candidates."""
+    from shared_data import import_or_skip
+
+    ipctk = import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
+    from conecull.app.evaluation import ipctk_narrow_phase
+
+    name, F, V0, V1 = _fold_step()
+    mesh = conecull.Mesh(F, n_vertices=len(V0))
+    E = np.asfortranarray(mesh.edges.astype(np.int32))
+    cm = ipctk.CollisionMesh(np.asfortranarray(V0), E, np.asfortranarray(np.asarray(F, np.int32)))
+    cand = ipctk.Candidates()
+    cand.build(cm, np.asfortranarray(V0), np.asfortranarray(V1), broad_phase=ipctk.LBVH())
+    ti = ipctk.TightInclusionCCD()
+    n = len(cand)
+    _, vf_all, ee_all = ipctk_narrow_phase(cand, F, E, V0, V1, ti, np.arange(n))
+    assert vf_all or ee_all  # the step has contacts
+    assert {(c.vertex_id, c.face_id) for c in cand.fv_candidates} >= vf_all  # ids as ipctk lists them
+    half = np.arange(0, n, 2)
+    _, vf_half, ee_half = ipctk_narrow_phase(cand, F, E, V0, V1, ti, half)
+    in_half_fv, in_half_ee = set(), set()
+    for i in half.tolist():
+        c = cand[int(i)]
+        if hasattr(c, "face_id"):
+            in_half_fv.add((c.vertex_id, c.face_id))
+        else:
+            in_half_ee.add(tuple(sorted((c.edge0_id, c.edge1_id))))
+    assert vf_half == vf_all & in_half_fv and ee_half == ee_all & in_half_ee
+
+
+def test_ipctk_beyond_the_limit_runs_on_a_sample_and_bounds_the_speedup(capsys):
+    from shared_data import import_or_skip
+
+    import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
+    name, F, V0, V1 = _fold_step()
+    full = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})[0]
+    cap = full["candidates"] // 3
+    r = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {}, max_candidates=cap)[0]
+    assert "ccd_speedup" not in r and "ipctk_fn" not in r and r["candidates"] == full["candidates"]
+    assert r["ipctk_sampled"] == cap and r["ipctk_sample_why"] == f"more than {cap} candidates"
+    assert r["ipctk_narrow_estimate_ms"] == r["ipctk_narrow_sample_ms"] * r["candidates"] / cap
+    b, o = r["ipctk_broad_ms"], r["ours_ms"]
+    assert r["ccd_speedup_lower"] == max(b + r["ipctk_narrow_sample_ms"], b + r["ipctk_stepsize_ms"]) / o
+    assert r["ccd_speedup_estimate"] == (b + r["ipctk_narrow_estimate_ms"]) / o >= (b + r["ipctk_narrow_sample_ms"]) / o
+    assert f"on a sample of {cap}" in capsys.readouterr().out
+
+
+def test_ipctk_narrow_phase_is_sampled_beyond_the_machines_memory(monkeypatch, capsys):
+    """Under the candidate limit, but on a machine too small for every candidate: a sample of
+    what fits, and the row says why (a loop that swapped, or was killed, would be no benchmark)."""
     from shared_data import import_or_skip
 
     import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
     from conecull.app import evaluation
-    from conecull.app.bench import _generated_ccd_steps
 
-    name, F, V0, V1, _, _ = _generated_ccd_steps(1500)[1]
+    name, F, V0, V1 = _fold_step()
     monkeypatch.setattr(evaluation, "memory_bytes", lambda: 2**20)  # 1 MiB
-    rows = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})
-    r = rows[0]
-    assert "ipctk_narrow_ms" not in r and r["candidates"] * evaluation.IPCTK_BYTES_PER_CANDIDATE > 2**20
-    assert r["ipctk_not_run"].startswith("it would need about") and "more than this machine's 0.000977" in r["ipctk_not_run"]
-    assert "not run" in capsys.readouterr().out
+    r = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})[0]
+    fits = 2**20 // evaluation.IPCTK_BYTES_PER_CANDIDATE
+    assert "ipctk_narrow_ms" not in r and r["candidates"] > fits and r["ipctk_sampled"] == fits
+    assert r["ipctk_sample_why"].startswith("all ") and "more than this machine's 0.000977" in r["ipctk_sample_why"]
+    assert f"on a sample of {fits}" in capsys.readouterr().out
 
 
 def test_ipctk_candidates_option_reaches_the_ipctk_section(tmp_path, monkeypatch):

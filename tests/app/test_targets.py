@@ -80,6 +80,24 @@ def test_ipctk_ccd_full_figures_and_lower_bounds():
     assert v([_ipctk("a", ccd=3.0), _ipctk("n-body", bound=2.2)])["verdict"] == "not met"
 
 
+def test_ipctk_ccd_on_a_sample_is_judged_on_its_lower_bound():
+    """A narrow phase run on a sample gives a lower bound (its calls alone), judged like any
+    bound; the estimate scaled to every candidate is printed, never judged."""
+    v = lambda rows: judge({"ipctk": rows})[5]  # noqa: E731
+
+    def sampled(lower, estimate):
+        r = _ipctk("n-body", bound=2.0)
+        r.update(candidates=31763290, ipctk_sampled=10000000, ipctk_sample_why="more than 10000000 candidates",
+                 ccd_speedup_lower=lower, ccd_speedup_estimate=estimate)
+        return r
+
+    row = v([_ipctk("a", ccd=300.0), sampled(49.6, 157.0)])
+    assert row["verdict"] == "met" and row["values"]["lower_bounds"] == {"n-body": 49.6}
+    assert ("n-body >= 49.6x (a lower bound: narrow phase on a random sample of 10000000 of 31763290 candidates, "
+            "more than 10000000 candidates; about 157x scaled to all)") in row["measured"]
+    assert v([_ipctk("a", ccd=300.0), sampled(19.9, 157.0)])["verdict"] == "not shown"  # the estimate is not judged
+
+
 def test_ipctk_dcd_is_judged_on_the_first_hit_query():
     dcd = lambda rows: judge({"ipctk": rows})[6]  # noqa: E731
     row = dcd([_ipctk("a", ccd=30, first=5.0, listing=4.3), _ipctk("b", ccd=30, first=28.0, listing=15.8)])
