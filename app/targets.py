@@ -85,8 +85,10 @@ def _lower_bound(r):
 
 def _why_bound(r):
     if "ipctk_sampled" in r:
-        return (f"narrow phase on a random sample of {r['ipctk_sampled']} of {r['candidates']} candidates, "
-                f"{r['ipctk_sample_why']}; about {r['ccd_speedup_estimate']:.0f}x scaled to all")
+        why = r["ipctk_sample_why"]
+        return (f"narrow phase timed on a random sample of {r['ipctk_sampled']} of the {r['candidates']} candidates"
+                + ("" if why.startswith("more than") else f" ({why})")  # a sample of k says "more than k"
+                + f"; about {r['ccd_speedup_estimate']:.0f}x scaled to all")
     return "narrow phase not run" + (f": {r['ipctk_not_run']}" if r.get("ipctk_not_run") else "")
 
 

@@ -93,8 +93,12 @@ def test_ipctk_ccd_on_a_sample_is_judged_on_its_lower_bound():
 
     row = v([_ipctk("a", ccd=300.0), sampled(49.6, 157.0)])
     assert row["verdict"] == "met" and row["values"]["lower_bounds"] == {"n-body": 49.6}
-    assert ("n-body >= 49.6x (a lower bound: narrow phase on a random sample of 10000000 of 31763290 candidates, "
-            "more than 10000000 candidates; about 157x scaled to all)") in row["measured"]
+    assert ("n-body >= 49.6x (a lower bound: narrow phase timed on a random sample of 10000000 of the 31763290 "
+            "candidates; about 157x scaled to all)") in row["measured"]
+    r = sampled(49.6, 157.0)
+    r["ipctk_sample_why"] = "all 31763290 would need about 15.1 GiB, more than this machine's 8 GiB"
+    assert "31763290 candidates (all 31763290 would need about 15.1 GiB, more than this machine's 8 GiB); about 157x" \
+        in v([r])["measured"]
     assert v([_ipctk("a", ccd=300.0), sampled(19.9, 157.0)])["verdict"] == "not shown"  # the estimate is not judged
 
 
