@@ -3,7 +3,8 @@ side in one run"): each target's figures, its threshold and a verdict, printed a
 last table and kept in paper.json under "targets".
 
 A verdict is "met", "not met", "not shown" (only a lower bound was measured, and it is below the
-threshold: ipctk's narrow phase runs on a sample of tens of millions of candidates) or "not measured"
+threshold: ipctk's narrow phase runs on a sample of a step's candidates above --ipctk-candidates, or
+not at all with 0) or "not measured"
 (the section was skipped). A ratio must beat its threshold as measured: 1.00x is not "faster".
 """
 

@@ -197,6 +197,22 @@ def test_ipctk_narrow_phase_on_a_sample_agrees_with_the_full_one():
     assert vf_half == vf_all & in_half_fv and ee_half == ee_all & in_half_ee
 
 
+def test_ipctk_narrow_phase_refuses_a_candidate_it_cannot_time():
+    """Only face-vertex and edge-edge candidates are timed; any other kind (a 2D mesh's) is an
+    error naming the candidate, not an edge-edge call on the wrong ids."""
+    from shared_data import import_or_skip
+
+    ipctk = import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
+    from conecull.app.evaluation import ipctk_narrow_phase
+
+    name, F, V0, V1 = _fold_step()
+    E = conecull.Mesh(F, n_vertices=len(V0)).edges
+    with pytest.raises(TypeError, match="ipctk candidate 0: expected a face-vertex or edge-edge candidate, got "
+                                        "VertexVertexCandidate"):
+        ipctk_narrow_phase([ipctk.VertexVertexCandidate(0, 1)], F, E, V0, V1, ipctk.TightInclusionCCD(),
+                           np.arange(1))
+
+
 def test_ipctk_beyond_the_limit_runs_on_a_sample_and_bounds_the_speedup(capsys):
     from shared_data import import_or_skip
 
