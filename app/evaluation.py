@@ -590,8 +590,8 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
         n, k = len(cand), len(sampled)
         # broad phase + ipctk's stepsize search: a lower bound on its CCD whatever the narrow phase ran on
         stepsize_bound = (b + ss) / o
+        nr = 1e3 * statistics.median(narrow) if found is not None else None  # all candidates, or the sample
         if found is not None and not why:
-            nr = 1e3 * statistics.median(narrow)
             row.update(ipctk_narrow_ms=nr, ipctk_ms=b + nr, ccd_speedup=(b + nr) / o,
                        ipctk_fn=len(vf_t - found[0]) + len(ee_t - found[1]),
                        ipctk_fp=len(found[0] - vf_t) + len(found[1] - ee_t))
@@ -600,7 +600,6 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
         elif found is not None:
             # A sample: its calls alone are a lower bound on the narrow phase; scaled to all
             # candidates (a uniform sample), an estimate. FN / FP need every candidate.
-            nr = 1e3 * statistics.median(narrow)
             est = nr * n / k
             row.update(ipctk_sampled=k, ipctk_sample_why=why, ipctk_narrow_sample_ms=nr,
                        ipctk_narrow_estimate_ms=est, ccd_speedup_lower=max((b + nr) / o, stepsize_bound),
