@@ -82,6 +82,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--scenes", help="all, front: comma-separated scenes (default the paper-sized ones: "
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")
     p.add_argument("--resolution", type=int, help="all, front: the scenes' resolution (default each scene's own)")
+    p.add_argument("--leaf-size", type=int, help="front: triangles per BVH leaf, as SelfCollider's leaf_size "
+                                                 "(default 2, the library's default)")
     p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
                                    "(default 16000,64000,256000,1000000)")
     p.add_argument("--from-json", metavar="PAPER_JSON",
@@ -185,7 +187,7 @@ def _check(args) -> int:
 BENCH_OPTIONS = {
     "all": {"scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats", "out", "threads",
             "ipctk_candidates"},
-    "front": {"scenes", "resolution", "out", "threads"},
+    "front": {"scenes", "resolution", "out", "threads", "leaf_size"},
     "dcd": {"triangles", "frames", "repeats", "out", "threads"},
     "ccd": {"triangles", "repeats", "out", "threads"},  # single steps: no frame count
     "threads": {"triangles", "frames", "repeats", "out", "threads"},
@@ -205,7 +207,7 @@ def _check_bench_args(args) -> None:
     from conecull.app.evaluation import TIMED_FRAMES
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
-                               "out", "threads", "ipctk_candidates") if getattr(args, name) is not None}
+                               "out", "threads", "ipctk_candidates", "leaf_size") if getattr(args, name) is not None}
     if args.suite == "all" and args.from_json is not None:
         allowed = {"from_json", "out"}  # a re-render times nothing
     else:
@@ -220,7 +222,8 @@ def _check_bench_args(args) -> None:
                          f"{', '.join('--' + o.replace('_', '-') for o in sorted(allowed))})")
     for name, value, low, high in (("--threads", args.threads, 1, 1024), ("--repeats", args.repeats, 1, MAX_BENCH_REPEATS),
                                    ("--ipctk-candidates", args.ipctk_candidates, 0, MAX_IPCTK_CANDIDATES),
-                                   ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None)):
+                                   ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None),
+                                   ("--leaf-size", args.leaf_size, 1, 64)):
         if value is not None:
             count(name, value, low, high)
     if args.from_json is not None and not args.from_json:

@@ -74,11 +74,11 @@ def _pairs_of(res):
     return res.pairs.tobytes()
 
 
-def _colliders(F, frames, methods, threads):
+def _colliders(F, frames, methods, threads, leaf_size=2):
     """One collider per method on the mesh of `frames`, each having answered frame 0 (the BVH and
     contours are built from it)."""
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
-    cols = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in methods}
+    cols = {m: conecull.SelfCollider(mesh, method=m, leaf_size=leaf_size, threads=threads) for m in methods}
     for col in cols.values():
         col.dcd(frames[0])
     return cols
@@ -104,10 +104,10 @@ def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed
                                      f"({len(frames[k])} vertices)")
 
 
-def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact"):
+def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=2):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
     and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
-    cols = _colliders(F, frames, methods, threads)
+    cols = _colliders(F, frames, methods, threads, leaf_size)
     n = len(frames) - 1 if ccd else len(frames)
     ms = {m: [[] for _ in range(n)] for m in methods}
     stats = {m: [None] * n for m in methods}
@@ -180,22 +180,26 @@ def run_front(args) -> int:
 
     scenes = _scenes_of(args)
     threads = args.threads or 1
+    leaf = args.leaf_size or 2
     rows = []
     linprog = scipy_linprog()
     for name in scenes:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
-        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads)
+        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf)
         # Fig. 11's CCD row: the steps `bench all` times (by default).
         _, _, ccd = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
-                                  threads=threads)
+                                  threads=threads, leaf_size=leaf)
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
-                     "bound": front_bound(F, window[0], window[-1], linprog) if linprog else None})
+                     "bound": front_bound(F, window[0], window[-1], linprog, leaf_size=leaf) if linprog else None})
+    print(f"(BVH leaves of at most {leaf} triangles)")
+    print()
     _fig11_table(rows)
     _bound_table(rows)
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.out, "front.json"), "w") as fh:
         json.dump([{k: r[k] for k in ("scene", "triangles", "frames", "front_ratio", "ccd_front_ratio", "bound")} |
+                   {"leaf_size": leaf} |
                    {"nc+front": [s["front_entries"] for s in r["all_frames"]["nc+front"]],
                     "aabb+front": [s["front_entries"] for s in r["all_frames"]["aabb+front"]],
                     "ccd_nc+front": [s["front_entries"] for s in r["ccd_stats"]["nc+front"]],

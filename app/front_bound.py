@@ -53,7 +53,7 @@ def in_open_hemisphere(normals: np.ndarray, linprog=None, *, witness: bool = Tru
     return bool(res.status == 0 and -res.fun > LP_T_MIN)
 
 
-def front_bound(F, V_build, V, linprog=None) -> dict:
+def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = 2) -> dict:
     """On pose V, the BVH built at V_build: per culling rule, the front entries kept (the
     sub-segments of `aabb+front` for the internal nodes that the traversal reaches and does not
     cull), and the share of all of `aabb+front`'s entries that is. "ours": a node is culled where
@@ -64,8 +64,8 @@ def front_bound(F, V_build, V, linprog=None) -> dict:
     F = np.asarray(F)
     V = np.asarray(V, dtype=np.float64)
     mesh = conecull.Mesh(F, n_vertices=len(V))
-    aabb = conecull.SelfCollider(mesh, method="aabb+front", threads=1)
-    nc = conecull.SelfCollider(mesh, method="nc", threads=1)
+    aabb = conecull.SelfCollider(mesh, method="aabb+front", leaf_size=leaf_size, threads=1)
+    nc = conecull.SelfCollider(mesh, method="nc", leaf_size=leaf_size, threads=1)
     for col in (aabb, nc):
         col.dcd(V_build)  # the BVH comes from the first pose queried
     # The jump from V_build to V can make sub-segments churn, and a churned one rests: it keeps

@@ -111,3 +111,25 @@ def test_bench_front(tmp_path, capsys):
     assert "| crumple |" in out_text and "Could any cone test make the front smaller?" in out_text
     assert main(["bench", "front", "--scenes", "crumple,nope", "--out", str(out)]) == 2
     assert "--scenes: unknown scene 'nope'" in capsys.readouterr().err
+
+
+def test_bench_front_leaf_size(tmp_path):
+    """--leaf-size builds every collider of the table and of the bound with that many triangles per
+    leaf: the counts are those of a collider made so, and differ from the default's."""
+    import conecull
+    from conecull.app.evaluation import COUNT_FRAMES, EVAL_FRAMES, _window
+    from conecull.datasets import load
+
+    counts = {}
+    for leaf in (1, 2):
+        out = tmp_path / f"leaf{leaf}"
+        assert main(["bench", "front", "--scenes", "fold", "--leaf-size", str(leaf), "--out", str(out)]) == 0
+        (row,) = json.loads((out / "front.json").read_text())
+        assert row["leaf_size"] == leaf
+        counts[leaf] = row["nc+front"]
+    F, P = load("fold", None, EVAL_FRAMES.get("fold"))
+    W = _window(P, COUNT_FRAMES)
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]), method="nc+front", leaf_size=1, threads=1)
+    col.dcd(W[0])  # the BVH from the window's first frame, as the bench builds it
+    assert counts[1] == [col.dcd(V).stats["front_entries"] for V in W]
+    assert counts[1] != counts[2]
