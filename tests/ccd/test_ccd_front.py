@@ -108,9 +108,17 @@ def test_dcd_and_ccd_alternate_on_one_collider():
 def test_ccd_front_stats(method):
     F, P = poses()
     col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    contacts = 0
     for k in range(len(P) - 1):
-        s = col.ccd(P[k], P[k + 1], arithmetic="float").stats
-        assert s["front_entries"] > 0 and s["front_bytes"] == 8 * s["front_entries"]
+        res = col.ccd(P[k], P[k + 1], arithmetic="float")
+        s = res.stats
+        # A step with a contact keeps a front (its root is not culled); the first steps, whose
+        # normals stay within a hemisphere, may be culled whole by nc+front.
+        if len(res.vf) + len(res.ee):
+            contacts += 1
+            assert s["front_entries"] > 0
+        assert s["front_bytes"] == 8 * s["front_entries"]
         assert s["front_added"] >= 0 and s["front_removed"] >= 0
         if k == 0:
             assert s["front_added"] == s["front_entries"] and s["front_removed"] == 0
+    assert contacts >= (len(P) - 1) // 2

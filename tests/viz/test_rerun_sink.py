@@ -63,7 +63,10 @@ def test_front_growth_is_recorded(tmp_path):
     for key in ("entries", "added", "removed", "rested"):
         rows = rows_by_frame(path, f"/stats/front/{key}", "Scalars:scalars")
         assert [v[0] for _, v in sorted(rows.items())] == [s[f"front_{key}"] for s in stats]
-    assert max(s["front_added"] for s in stats) > 0 and min(s["front_entries"] for s in stats) > 0
+    # A frame with a collision keeps a front (its root is not culled); the fold passes through
+    # itself on the last two of these frames (the first may be culled whole).
+    assert max(s["front_added"] for s in stats) > 0 and sum(s["colliding_pairs"] > 0 for s in stats) >= 2
+    assert all(s["front_entries"] > 0 for s in stats if s["colliding_pairs"])
     contour_ms = rows_by_frame(path, "/stats/ms/contour", "Scalars:scalars")
     assert len(contour_ms) == 6
 

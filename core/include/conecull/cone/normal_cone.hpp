@@ -216,6 +216,17 @@ inline NormalCone best(const NormalCone& a, const NormalCone& b) { return b.cos_
     return best(b, cone_about(a, p, dot(a, p.axis), norm(cross(a, p.axis)), q, dot(a, q.axis), norm(cross(a, q.axis))));
 }
 
+// A bounded cone's half-angle is in [0, pi/2), so sin(theta) <= sqrt(1 - cos_bound^2) as well.
+// Without this, sin_bound (each merge bounds sin(phi + theta) by sin_bound cos(phi) + sin(phi),
+// taking cos(theta) <= 1) drifts up level by level: above 1.2 on falling's nodes, whose merged
+// cones then came out full although their children's cones fit within 82-89 degrees of an
+// axis. 1 - cb^2 is computed within 2 kEps of its value; adding 4 kEps before the root and
+// kConeSlack after it covers that and the roundings (the bound only ever grows).
+inline NormalCone with_sin_from_cos(NormalCone c) {
+    if (c.bounded()) c.sin_bound = std::min(c.sin_bound, std::sqrt(1.0 - c.cos_bound * c.cos_bound + 4.0 * kEps) + kConeSlack);
+    return c;
+}
+
 // Bottom-up merge (Sec. 3.6 "merge these bounds in a bottom-up manner"): the smallest cone
 // holding both, up to rounding. Its axis lies on the great circle through both axes (phi
 // apart), turned from p's towards q's by alpha = (phi + theta_q - theta_p) / 2, clamped to
@@ -229,7 +240,7 @@ inline NormalCone best(const NormalCone& a, const NormalCone& b) { return b.cos_
 inline NormalCone merge(const NormalCone& p, const NormalCone& q) {
     if (!p.bounded() || !q.bounded()) return NormalCone::full();
     const NormalCone b = merge_bisector(p, q);
-    return b.cos_bound > kMergeNarrow ? b : merge_wide(p, q, b);
+    return with_sin_from_cos(b.cos_bound > kMergeNarrow ? b : merge_wide(p, q, b));
 }
 
 }  // namespace conecull
