@@ -58,7 +58,8 @@ def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = 2) -> dict:
     sub-segments of `aabb+front` for the internal nodes that the traversal reaches and does not
     cull), and the share of all of `aabb+front`'s entries that is. "ours": a node is culled where
     `nc` culled it (bounded cone and contour test passed); "bound": where its normals lie in an
-    open hemisphere (any cone test's best). bound <= ours always: ours culls only such nodes."""
+    open hemisphere (any cone test's best). bound <= ours always: ours culls only such nodes.
+    leaf_size: the colliders' (triangles per BVH leaf), which sets the BVTT and so the fronts."""
     import conecull
 
     F = np.asarray(F)

@@ -221,7 +221,8 @@ inline NormalCone best(const NormalCone& a, const NormalCone& b) { return b.cos_
 // taking cos(theta) <= 1) drifts up level by level: above 1.2 on falling's nodes, whose merged
 // cones then came out full although their children's cones fit within 82-89 degrees of an
 // axis. 1 - cb^2 is computed within 2 kEps of its value; adding 4 kEps before the root and
-// kConeSlack after it covers that and the roundings (the bound only ever grows).
+// kConeSlack after it keeps the computed cap above the exact one. (Were cb rounded above 1, the
+// root would be NaN and std::min keep sin_bound.)
 inline NormalCone with_sin_from_cos(NormalCone c) {
     if (c.bounded()) c.sin_bound = std::min(c.sin_bound, std::sqrt(1.0 - c.cos_bound * c.cos_bound + 4.0 * kEps) + kConeSlack);
     return c;
