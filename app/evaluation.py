@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 import conecull
+from conecull._api import DEFAULT_LEAF_SIZE
 from conecull.app.bench import shared_steps
 from conecull.app.targets import judge, print_targets
 from conecull.datasets.checks import memory_bytes
@@ -74,7 +75,7 @@ def _pairs_of(res):
     return res.pairs.tobytes()
 
 
-def _colliders(F, frames, methods, threads, leaf_size=2):
+def _colliders(F, frames, methods, threads, leaf_size=DEFAULT_LEAF_SIZE):
     """One collider per method on the mesh of `frames`, each having answered frame 0 (the BVH and
     contours are built from it)."""
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
@@ -104,7 +105,7 @@ def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed
                                      f"({len(frames[k])} vertices)")
 
 
-def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=2):
+def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
     and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
     cols = _colliders(F, frames, methods, threads, leaf_size)
@@ -180,7 +181,7 @@ def run_front(args) -> int:
 
     scenes = _scenes_of(args)
     threads = args.threads or 1
-    leaf = args.leaf_size or 2
+    leaf = args.leaf_size or DEFAULT_LEAF_SIZE
     rows = []
     linprog = scipy_linprog()
     for name in scenes:

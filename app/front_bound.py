@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from conecull._api import DEFAULT_LEAF_SIZE
+
 
 def scipy_linprog():
     """scipy.optimize.linprog, or None (scipy comes with the `bench` extra, through ipctk)."""
@@ -53,7 +55,7 @@ def in_open_hemisphere(normals: np.ndarray, linprog=None, *, witness: bool = Tru
     return bool(res.status == 0 and -res.fun > LP_T_MIN)
 
 
-def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = 2) -> dict:
+def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = DEFAULT_LEAF_SIZE) -> dict:
     """On pose V, the BVH built at V_build: per culling rule, the front entries kept (the
     sub-segments of `aabb+front` for the internal nodes that the traversal reaches and does not
     cull), and the share of all of `aabb+front`'s entries that is. "ours": a node is culled where
