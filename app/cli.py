@@ -204,7 +204,7 @@ def _check_bench_args(args) -> None:
     """The bench options, checked before minutes of work (each names its option); then the
     defaults of --triangles, --frames and --out."""
     from conecull.datasets.checks import count, fits_in_memory, writable_folder
-    from conecull._api import MAX_LEAF_SIZE
+    from conecull._api import MAX_LEAF_SIZE, MAX_THREADS
     from conecull.app.evaluation import TIMED_FRAMES
 
     typed = {name for name in ("scenes", "resolution", "sizes", "from_json", "skip", "triangles", "frames", "repeats",
@@ -221,7 +221,7 @@ def _check_bench_args(args) -> None:
             why = f"the {args.suite} suite always measures one thread"
         raise ValueError(f"{option}: {why} (options of `bench {args.suite}`: "
                          f"{', '.join('--' + o.replace('_', '-') for o in sorted(allowed))})")
-    for name, value, low, high in (("--threads", args.threads, 1, 1024), ("--repeats", args.repeats, 1, MAX_BENCH_REPEATS),
+    for name, value, low, high in (("--threads", args.threads, 1, MAX_THREADS), ("--repeats", args.repeats, 1, MAX_BENCH_REPEATS),
                                    ("--ipctk-candidates", args.ipctk_candidates, 0, MAX_IPCTK_CANDIDATES),
                                    ("--frames", args.frames, 2, MAX_BENCH_FRAMES), ("--triangles", args.triangles, 8, None),
                                    ("--leaf-size", args.leaf_size, 1, MAX_LEAF_SIZE)):

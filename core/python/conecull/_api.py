@@ -335,7 +335,7 @@ class SelfCollider:
         return out
 
 
-_MAX_THREADS = 1024  # a sanity cap (a typo should not start thousands of threads)
+MAX_THREADS = 1024  # a sanity cap (a typo should not start thousands of threads)
 
 
 def _as_threads(threads) -> int:
@@ -343,8 +343,8 @@ def _as_threads(threads) -> int:
     if threads is None:
         return 0
     if isinstance(threads, (bool, np.bool_)) or not isinstance(threads, (int, np.integer)) \
-            or not 1 <= threads <= _MAX_THREADS:
-        raise ValueError(f"threads: expected None or an integer in [1, {_MAX_THREADS}], got {threads!r}")
+            or not 1 <= threads <= MAX_THREADS:
+        raise ValueError(f"threads: expected None or an integer in [1, {MAX_THREADS}], got {threads!r}")
     return int(threads)
 
 
