@@ -7,7 +7,7 @@ import sys
 
 
 def main(argv: list[str] | None = None) -> int:
-    from conecull._api import METHODS  # "sct" is DCD only: `record --ccd --method sct` is refused with a ValueError
+    from conecull._api import DEFAULT_LEAF_SIZE, METHODS  # "sct" is DCD only: `record --ccd --method sct` is refused with a ValueError
     from conecull.datasets.inputs import DEFAULT_SCENE
 
     parser = argparse.ArgumentParser(prog="conecull", description="Reliable self-collision culling with unprojected normal cones")
@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
                                     "funnel,twisting,flowing,falling,flamenco,squishy)")
     p.add_argument("--resolution", type=int, help="all, front: the scenes' resolution (default each scene's own)")
     p.add_argument("--leaf-size", type=int, help="front: triangles per BVH leaf, as SelfCollider's leaf_size "
-                                                 "(default 2, the library's default)")
+                                                 f"(default {DEFAULT_LEAF_SIZE}, the library's default)")
     p.add_argument("--sizes", help="all: comma-separated triangle counts for the scaling table "
                                    "(default 16000,64000,256000,1000000)")
     p.add_argument("--from-json", metavar="PAPER_JSON",
