@@ -351,7 +351,7 @@ class SelfCollideTraversal {
                 // were 13% of this function's samples. Flat, nc+front against nc on flamenco went
                 // from 1.01x to 1.07x (DCD, medians of 5 alternations of the two builds; falling
                 // 1.06 -> 1.08x, funnel and twisting unchanged). In descend it gave nc no gain (nc
-                // 2-8% slower in 2 alternations), so the recursion keeps the early exits.
+                // slower on four of six scenes in 2 alternations), so the recursion keeps them.
                 const bool overlap = na.box.overlaps_flat(nb.box);
                 if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
                 if (!overlap) {
