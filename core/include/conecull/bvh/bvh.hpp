@@ -19,9 +19,8 @@ struct Aabb {
         return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y &&
                lo.z <= o.hi.z && o.lo.z <= hi.z;
     }
-    // The same test with no early exit: all six comparisons, then one branch on the result. In
-    // the front update's walk over its entries (FrontTracking), which comparison fails first
-    // varies from entry to entry and the early exits were mispredicted (self_collide.hpp).
+    // The same test with no early exit: all six comparisons, then one branch on the result
+    // (FrontTracking's walk over its entries, self_collide.hpp, says why it uses it).
     bool overlaps_flat(const Aabb& o) const {
         return (lo.x <= o.hi.x) & (o.lo.x <= hi.x) & (lo.y <= o.hi.y) & (o.lo.y <= hi.y) &
                (lo.z <= o.hi.z) & (o.lo.z <= hi.z);

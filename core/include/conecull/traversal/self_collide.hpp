@@ -347,11 +347,9 @@ class SelfCollideTraversal {
                 ++stats_.bv_tests;
                 const BvhNode& na = nodes[e.a];
                 const BvhNode& nb = nodes[e.b];
-                // Branch-free (Aabb::overlaps_flat). Flamenco, perf: the early exits' mispredicts
-                // were 13% of this function's samples. Flat, nc+front against nc on flamenco went
-                // from 1.01x to 1.07x (DCD, medians of 5 alternations of the two builds; falling
-                // 1.06 -> 1.08x, funnel and twisting unchanged). In descend it gave nc no gain (nc
-                // slower on four of six scenes in 2 alternations), so the recursion keeps them.
+                // Branch-free: which comparison fails first varies from entry to entry, and the
+                // early exits were mispredicted (13% of this loop on flamenco). The recursion
+                // keeps them: flat there, nc got slower (README, BVTT fronts).
                 const bool overlap = na.box.overlaps_flat(nb.box);
                 if constexpr (kTraceHooks<Tracer>) tracer_.on_node_pair(e.a, e.b, overlap);
                 if (!overlap) {
