@@ -11,6 +11,8 @@ import os
 
 import numpy as np
 
+from conecull._api import memory_bytes  # noqa: F401 (re-exported: the loaders' and the bench's bound)
+
 
 def is_int(value) -> bool:
     """A Python or NumPy integer, and not a bool."""
@@ -51,14 +53,6 @@ def seed(name: str, value):
     if value is None or isinstance(value, np.random.SeedSequence):
         return value
     return count(name, value, 0)
-
-
-def memory_bytes() -> int:
-    """This machine's physical memory (a bound no request may exceed), or 2^40 if unknown."""
-    try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, OSError, ValueError):
-        return 1 << 40
 
 
 def fits_in_memory(name: str, n_bytes: float, what: str) -> None:

@@ -247,6 +247,90 @@ def test_queries_release_the_gil():
     assert longest < query / 2, f"the main thread paused {longest * 1e3:.1f} ms during {query * 1e3:.1f} ms queries"
 
 
+SNAPSHOT_RACE_SCRIPT = r"""
+import sys, threading
+import numpy as np
+import conecull
+from conecull.datasets.generated import folding_sheet
+F, P = folding_sheet(20000, 2)
+mesh = conecull.Mesh(F)
+method, rounds = sys.argv[1], int(sys.argv[2])
+ref = conecull.SelfCollider(mesh, method)
+ref.dcd(P[1])
+expected = ref.bvh_arrays()["order"]
+calls = 0
+for _ in range(rounds):
+    col = conecull.SelfCollider(mesh, method)
+    stop = []
+    errors = []
+    def snap():
+        global calls
+        try:
+            while not stop:
+                if method.endswith("+front"):
+                    col.front_arrays(); col.front_load()
+                else:
+                    col.bvh_arrays(); col.cone_arrays(); col.contour_arrays(); col._core.built
+                calls += 1
+        except Exception as e:
+            errors.append(e)
+    t = threading.Thread(target=snap)
+    t.start()
+    col.dcd(P[1])
+    stop.append(1)
+    t.join()
+    assert not errors, errors
+    assert np.array_equal(col.bvh_arrays()["order"], expected)
+assert calls >= rounds, calls  # the snapshots really ran alongside the queries
+print("ok", calls)
+"""
+
+
+def test_snapshots_wait_for_a_running_query():
+    """bvh_arrays, cone_arrays, contour_arrays, front_arrays and built, called from one thread
+    while another thread's first query builds those structures (without the GIL), wait for it.
+    Unlocked, bvh_arrays and contour_arrays read half-built vectors: the process died of heap
+    corruption (malloc(): corrupted top size; SIGABRT or SIGSEGV) in 2 of 5 runs of 30 rounds and
+    3 of 3 of 120 (about 4 s). A subprocess, so that a crash fails this test and not the run."""
+    import subprocess
+    import sys
+
+    for method, rounds in (("nc", 120), ("nc+front", 30)):
+        out = subprocess.run([sys.executable, "-c", SNAPSHOT_RACE_SCRIPT, method, str(rounds)], capture_output=True,
+                             text=True, timeout=600)
+        assert out.returncode == 0 and out.stdout.startswith("ok"), (method, out.returncode, out.stderr[-2000:])
+
+
+def test_collider_attributes_are_read_only():
+    """The core was made for one mesh, method and leaf size: rebinding them from Python would make
+    the two sides disagree (front_arrays answering on an "nc" collider)."""
+    c = col("nc")
+    for name, value in (("mesh", conecull.Mesh(F)), ("method", "nc+front"), ("leaf_size", 4)):
+        with pytest.raises(AttributeError):
+            setattr(c, name, value)
+    assert c.method == "nc" and c.leaf_size == 2 and c.mesh.n_faces == len(F)
+    with pytest.raises(ValueError, match=r"method: 'nc' keeps no BVTT front"):
+        c.front_arrays()
+
+
+def test_mesh_too_large_for_memory_is_refused_before_building(monkeypatch):
+    """A single triangle with vertex id 2^31 - 2 built a 16 GB topology in 42 s, and reading
+    vertex_faces then had the process killed for lack of memory: refused up front, naming what
+    asked for it. The bound is this machine's memory (patched here to 1 GiB, so that the test
+    does not depend on the machine)."""
+    from conecull import _api
+
+    monkeypatch.setattr(_api, "memory_bytes", lambda: 2**30)
+    with pytest.raises(ValueError, match=r"faces: 1 face whose largest vertex index, 99999999, means 100000000 "
+                                         r"vertices would need about 3.73 GiB .* more than this machine's 1 GiB"):
+        conecull.Mesh([[0, 1, 10**8 - 1]])
+    with pytest.raises(ValueError, match=r"n_vertices: 100000000 vertices would need about 3.73 GiB"):
+        conecull.Mesh([[0, 1, 2]], n_vertices=10**8)
+    assert conecull.Mesh([[0, 1, 2]], n_vertices=10**6).n_vertices == 10**6  # 38 MiB: fits
+    with pytest.raises(ValueError, match=r"faces: 1 face whose largest vertex index, 2147483646"):
+        conecull.Mesh([[0, 1, 2**31 - 2]])
+
+
 DAEMON_SCRIPT = r"""
 import sys, threading, time
 import numpy as np

@@ -20,6 +20,18 @@ struct PyCollider {
         : collider(std::move(t), m, leaf, threads) {}
 };
 
+// The collider's lock for a snapshot of its structures (bvh_arrays and the like): a query on
+// another thread builds or refits them without the GIL, so reading them unlocked can meet a
+// half-built vector (a heap corruption, found by racing bvh_arrays with a first query). The GIL
+// is released while waiting, so other Python threads run meanwhile; the query never takes the
+// GIL while it holds the lock, so this cannot deadlock.
+std::unique_lock<std::mutex> lock_for_snapshot(PyCollider& self) {
+    std::unique_lock<std::mutex> lock(self.mutex, std::defer_lock);
+    py::gil_scoped_release release;
+    lock.lock();
+    return lock;
+}
+
 const char* reason_name(int r) {
     switch (static_cast<ContourReason>(r)) {
         case ContourReason::kPassed: return "passed";
@@ -233,16 +245,32 @@ void bind_collider(py::module_& m) {
             "CCD over the step V0 -> V1: returns (vf (k, 2), ee (k, 2), stats dict, trace dict or None, toi or None).\n"
             "stop_at_first: make and test each candidate's VF then EE pairs as it is reached, up to the first\n"
             "contact (vf or ee: it, or none); aabb / nc stop traversing there too (see SelfCollider.ccd).")
-        .def_property_readonly("built", [](PyCollider& self) { return self.collider.built(); })
+        .def_property_readonly("built",
+                               [](PyCollider& self) {
+                                   const auto lock = lock_for_snapshot(self);
+                                   return self.collider.built();
+                               })
         .def_property_readonly("method", [](PyCollider& self) { return method_name(self.collider.method()); })
         .def_property_readonly("threads", [](PyCollider& self) { return self.collider.threads(); })
-        .def("bvh_arrays", [](PyCollider& self) { return bvh_arrays(self.collider.bvh()); })
-        .def("cone_arrays", [](PyCollider& self) { return cone_arrays(self.collider.cones()); })
-        .def("contour_arrays", [](PyCollider& self) { return contour_arrays(self.collider.contours()); })
+        .def("bvh_arrays",
+             [](PyCollider& self) {
+                 const auto lock = lock_for_snapshot(self);
+                 return bvh_arrays(self.collider.bvh());
+             })
+        .def("cone_arrays",
+             [](PyCollider& self) {
+                 const auto lock = lock_for_snapshot(self);
+                 return cone_arrays(self.collider.cones());
+             })
+        .def("contour_arrays",
+             [](PyCollider& self) {
+                 const auto lock = lock_for_snapshot(self);
+                 return contour_arrays(self.collider.contours());
+             })
         .def(
             "front_arrays",
             [](PyCollider& self, bool continuous) {
-                std::lock_guard<std::mutex> lock(self.mutex);
+                const auto lock = lock_for_snapshot(self);
                 return front_arrays(self.collider.front(continuous), self.collider.bvh());
             },
             py::arg("continuous"),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import weakref
 from dataclasses import dataclass, field
 
@@ -74,6 +75,22 @@ def _as_positions(V, n_vertices: int, name: str = "V") -> np.ndarray:
     return _as_float64(a, name)  # values: checked by the core (see the top)
 
 
+def memory_bytes() -> int:
+    """This machine's physical memory (a bound no request may exceed), or 2^40 if unknown."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, OSError, ValueError):
+        return 1 << 40
+
+
+# What a mesh costs, for refusing one this machine cannot hold before building it (measured on
+# the topology: ~8 bytes per vertex and ~150 per face; its NumPy views add 8 per vertex, and one
+# (n, 3) float64 positions array, without which it cannot be queried, 24). A single triangle
+# with vertex id 2^31 - 2 otherwise built for 42 s and 16 GB, and reading vertex_faces then
+# got the process killed for lack of memory, with no Python error.
+MESH_BYTES_PER_VERTEX, MESH_BYTES_PER_FACE = 40, 200
+
+
 class Mesh:
     """Topology of a triangle mesh (any triangle soup), built once; positions come per query.
 
@@ -92,6 +109,12 @@ class Mesh:
             raise ValueError(f"n_vertices: {n_vertices} is smaller than the largest face index + 1 ({needed})")
         elif n_vertices > 2**31 - 1:
             raise ValueError(f"n_vertices: {n_vertices} is too large (at most 2^31 - 1 = {2**31 - 1})")
+        need = MESH_BYTES_PER_VERTEX * int(n_vertices) + MESH_BYTES_PER_FACE * len(f)
+        if need > memory_bytes():
+            what = (f"faces: {len(f)} face{'' if len(f) == 1 else 's'} whose largest vertex index, {needed - 1}, means {needed} vertices"
+                    if n_vertices == needed else f"n_vertices: {int(n_vertices)} vertices")
+            raise ValueError(f"{what} would need about {need / 2**30:.3g} GiB (the topology and one (n, 3) float64 "
+                             f"positions array), more than this machine's {memory_bytes() / 2**30:.3g} GiB of memory")
         try:
             self._topo = _core.build_topology(f, int(n_vertices))
         except MemoryError:
@@ -229,10 +252,28 @@ class SelfCollider:
             raise ValueError(f"method: expected one of {METHODS}, got {method!r}")
         if isinstance(leaf_size, (bool, np.bool_)) or not isinstance(leaf_size, (int, np.integer)) or not 1 <= leaf_size <= MAX_LEAF_SIZE:
             raise ValueError(f"leaf_size: expected an integer in [1, {MAX_LEAF_SIZE}], got {leaf_size!r}")
-        self.mesh = mesh
-        self.method = method
-        self.leaf_size = int(leaf_size)
-        self._core = _core.SelfCollider(mesh._topo, method, self.leaf_size, _as_threads(threads))
+        self._mesh = mesh
+        self._method = method
+        self._leaf_size = int(leaf_size)
+        self._core = _core.SelfCollider(mesh._topo, method, self._leaf_size, _as_threads(threads))
+
+    # Read-only: the core was built for this mesh, method and leaf size; rebinding one would make
+    # the Python side disagree with it (front_arrays on an "nc" collider, positions checked
+    # against another mesh's vertex count). Make a new SelfCollider instead.
+    @property
+    def mesh(self) -> Mesh:
+        """The mesh this collider was made for."""
+        return self._mesh
+
+    @property
+    def method(self) -> str:
+        """The culling method (see the class docstring)."""
+        return self._method
+
+    @property
+    def leaf_size(self) -> int:
+        """At most this many triangles per BVH leaf."""
+        return self._leaf_size
 
     def __reduce__(self):
         # Its state (the BVH built from the first pose, the fronts) lives in the core and would
