@@ -21,6 +21,21 @@ def _frame_count(n_frames, n_vertices: int) -> int:
     return n_frames
 
 
+def _query_ready(P: np.ndarray, args: str) -> np.ndarray:
+    """P, if every coordinate is one a query accepts (finite; zero or a magnitude in [2^-128, 2^128]:
+    core/bindings/common.hpp), else a ValueError naming the arguments that scale it. Finite
+    arguments can still overflow (crumpling_sphere(strength=1.7e308) gave inf with only NumPy's
+    warning): a generator never hands out positions that every query would refuse."""
+    a = np.abs(P)
+    with np.errstate(invalid="ignore"):
+        bad = ~np.isfinite(a) | (a > 2.0**128) | ((a != 0) & (a < 2.0**-128))
+    if bad.any():
+        v = float(P.flat[int(np.argmax(bad))])
+        raise ValueError(f"{args}: the positions would reach {v!r}, which no query accepts (coordinates must be "
+                         "finite, and zero or of magnitude in [2^-128, 2^128])")
+    return P
+
+
 def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
     """A flat (nx x ny)-vertex grid in the z = 0 plane, consistently oriented (+z normals).
 
@@ -39,7 +54,7 @@ def grid_sheet(nx: int, ny: int, width: float = 1.0, height: float = 1.0):
     F = np.empty((2 * a.size, 3), dtype=np.int64)
     F[0::2] = np.column_stack([a, b, d])
     F[1::2] = np.column_stack([a, d, c])
-    return F, V
+    return F, _query_ready(V, "width, height")
 
 
 def sheet_for_triangles(n_triangles: int):
@@ -56,22 +71,23 @@ def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> 
     The part x > x0 wraps around a cylinder of the given radius, then continues straight, so
     the surface stays smooth; for angle > pi it passes through the other half.
     """
-    V = points("V", V)
+    V = _query_ready(points("V", V), "V")
     angle, x0 = real("angle", angle), real("x0", x0)
     radius = real("radius", radius, 0.0, low_open=True)  # the bend divides by it
     W = V.copy()
-    s = V[:, 0] - x0
-    arc = radius * angle
-    on = s > 0
-    bend = on & (s <= arc)
-    straight = on & (s > arc)
-    t = s[bend] / radius
-    W[bend, 0] = x0 + radius * np.sin(t)
-    W[bend, 2] = V[bend, 2] + radius * (1.0 - np.cos(t))
-    u = s[straight] - arc
-    W[straight, 0] = x0 + radius * np.sin(angle) + u * np.cos(angle)
-    W[straight, 2] = V[straight, 2] + radius * (1.0 - np.cos(angle)) + u * np.sin(angle)
-    return W
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, by name
+        s = V[:, 0] - x0
+        arc = radius * angle
+        on = s > 0
+        bend = on & (s <= arc)
+        straight = on & (s > arc)
+        t = s[bend] / radius
+        W[bend, 0] = x0 + radius * np.sin(t)
+        W[bend, 2] = V[bend, 2] + radius * (1.0 - np.cos(t))
+        u = s[straight] - arc
+        W[straight, 0] = x0 + radius * np.sin(angle) + u * np.cos(angle)
+        W[straight, 2] = V[straight, 2] + radius * (1.0 - np.cos(angle)) + u * np.sin(angle)
+    return _query_ready(W, "angle, x0, radius")
 
 
 def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: float = 1.15 * np.pi):
@@ -79,7 +95,10 @@ def folding_sheet(n_triangles: int = 2000, n_frames: int = 30, final_angle: floa
     F, V = sheet_for_triangles(n_triangles)
     n_frames = _frame_count(n_frames, len(V))
     final_angle = real("final_angle", final_angle)
-    frames = np.stack([fold(V, final_angle * k / max(1, n_frames - 1)) for k in range(n_frames)])
+    try:
+        frames = np.stack([fold(V, final_angle * k / max(1, n_frames - 1)) for k in range(n_frames)])
+    except ValueError as e:  # fold's angle is this final_angle's share
+        raise ValueError(f"final_angle{str(e).partition(':')[1]}{str(e).partition(':')[2]}") from None
     return F, frames
 
 
@@ -94,7 +113,7 @@ def bending_sheet(n_triangles: int = 2000, n_frames: int = 30, amplitude: float 
         W = V.copy()
         W[:, 2] = amplitude * np.sin(2.0 * np.pi * V[:, 0] + phase) * np.cos(np.pi * (V[:, 1] - 0.5))
         frames.append(W)
-    return F, np.stack(frames)
+    return F, _query_ready(np.stack(frames), "amplitude")
 
 
 def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
@@ -123,7 +142,7 @@ def uv_sphere(n_lat: int = 24, n_lon: int = 48, radius: float = 0.5):
     base = 1 + (n_lat - 2) * n_lon
     for j in range(n_lon):
         F.append([base + j, south, base + (j + 1) % n_lon])
-    return np.array(F, dtype=np.int64), V
+    return np.array(F, dtype=np.int64), _query_ready(V, "radius")
 
 
 def crumpling_sphere(n_lat: int = 24, n_lon: int = 48, n_frames: int = 30, strength: float = 0.6, seed: int = 0):
@@ -140,7 +159,8 @@ def crumpling_sphere(n_lat: int = 24, n_lon: int = 48, n_frames: int = 30, stren
     for c, w in zip(centers, weights):
         dent += w * np.exp(-((1.0 - dirs @ c) / 0.08))
     frames = []
-    for k in range(n_frames):
-        s = strength * k / max(1, n_frames - 1)
-        frames.append(V * (1.0 - s * dent)[:, None] * 1.0 + 0.0)
-    return F, np.stack(frames)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below, by name
+        for k in range(n_frames):
+            s = strength * k / max(1, n_frames - 1)
+            frames.append(V * (1.0 - s * dent)[:, None])
+    return F, _query_ready(np.stack(frames), "strength")

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import tempfile
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -155,6 +156,7 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     path = folder / f"{name}-{_key(scene, resolution, frames)}.npz"
     if path.exists():
         return _read_cached(path, frames)
+    _check_writable(folder)
     try:
         n_triangles = scene.triangles(resolution)
     except ValueError as e:
@@ -183,6 +185,19 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     np.savez(tmp, faces=F, positions=P)
     os.replace(tmp, path)  # atomic: a concurrent reader never sees half a file
     return F, P
+
+
+def _check_writable(folder: Path) -> None:
+    """Before generating (minutes for the large scenes): the folder the result will be cached in
+    can be created and written, else an error naming where the folder came from."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".write-check-"):
+            pass
+    except OSError as e:
+        source = ("CONECULL_CACHE" if os.environ.get("CONECULL_CACHE")
+                  else "the cache folder (set CONECULL_CACHE to a writable folder to use another)")
+        raise ValueError(f"{source}: cannot write scenes to '{folder}' ({e.strerror or e})") from None
 
 
 def _read_cached(path: Path, frames: int):

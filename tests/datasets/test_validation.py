@@ -2,10 +2,13 @@
 silently wrong answer: frame order of folders, non-finite scenes, sizes, generator arguments,
 position files."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 import trimesh
 
+import conecull
 from conecull import datasets
 from conecull.datasets import generated, skirt, squishy
 from conecull.datasets.inputs import load_sequence, parse_frames
@@ -271,3 +274,48 @@ def test_a_cache_path_that_is_a_file(tmp_path, monkeypatch):
     monkeypatch.setenv("CONECULL_CACHE", str(tmp_path / "file"))
     with pytest.raises(ValueError, match=r"CONECULL_CACHE: '.*file' is not a folder"):
         datasets.load("fold", resolution=4)
+
+
+def test_a_cache_that_cannot_be_written(tmp_path, monkeypatch):
+    """Refused before generating, naming CONECULL_CACHE: a folder under a file, and one under a
+    read-only file system (found by probing: both generated the scene, then gave a raw
+    NotADirectoryError or PermissionError traceback). Nothing is generated."""
+    (tmp_path / "file").write_text("")
+    calls = []
+    monkeypatch.setitem(datasets.SCENES, "fold", dataclasses.replace(datasets.SCENES["fold"], generate=lambda *a: calls.append(a)))
+    for folder, why in ((tmp_path / "file" / "sub", "Not a directory"), ("/proc/conecull-cache", "No such file")):
+        monkeypatch.setenv("CONECULL_CACHE", str(folder))
+        with pytest.raises(ValueError, match=rf"CONECULL_CACHE: cannot write scenes to '{folder}' \({why}"):
+            datasets.load("fold", resolution=4)
+    assert not calls
+    monkeypatch.delenv("CONECULL_CACHE")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "file"))
+    with pytest.raises(ValueError, match=r"the cache folder \(set CONECULL_CACHE to a writable folder to use "
+                                         r"another\): cannot write scenes to '.*file/conecull'"):
+        datasets.load("fold", resolution=4)
+
+
+@pytest.mark.parametrize("make,match", [
+    (lambda: generated.crumpling_sphere(3, 3, 3, strength=1.7e308), r"strength: the positions would reach"),
+    (lambda: generated.bending_sheet(50, 3, amplitude=1e300), r"amplitude: the positions would reach"),
+    (lambda: generated.uv_sphere(3, 3, radius=1e-300), r"radius: the positions would reach 1e-300"),
+    (lambda: generated.grid_sheet(3, 3, width=1e300), r"width, height: the positions would reach"),
+    (lambda: generated.fold(generated.grid_sheet(4, 4)[1], 3.0, x0=-1e308), r"angle, x0, radius: the positions"),
+    (lambda: generated.folding_sheet(50, 3, final_angle=1e-300), r"final_angle: the positions would reach"),
+])
+def test_generators_never_return_positions_a_query_refuses(make, match):
+    """Finite arguments can still overflow (crumpling_sphere(strength=1.7e308) returned inf with
+    only NumPy's RuntimeWarning): refused, naming the argument, with no warning on the way."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=match):
+            make()
+
+
+def test_generators_at_the_edge_of_the_query_range_still_query():
+    """What the generators accept, the queries accept: a sphere of radius 2^100 (its coordinates
+    up to 2^100, the smallest non-zero ones far above 2^-128) answers a query."""
+    F, V = generated.uv_sphere(6, 8, radius=2.0**100)
+    assert conecull.SelfCollider(conecull.Mesh(F)).dcd(V).pairs.shape == (0, 2)
