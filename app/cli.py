@@ -111,7 +111,7 @@ def main(argv: list[str] | None = None) -> int:
     args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
         return _run(args)
-    except (ValueError, FileNotFoundError, MemoryError) as e:
+    except (ValueError, OSError, MemoryError) as e:  # OSError: a file that cannot be read or written
         print(f"conecull {args.command}: error: {_as_option(str(e))}", file=sys.stderr)
         return 2
 
@@ -268,9 +268,10 @@ def _run(args) -> int:
             return 0
         import time
 
-        for name in args.generate or names():
+        for name in args.generate:  # all of them before generating any (minutes each)
             if name not in names():
                 raise ValueError(f"NAME: unknown scene '{name}'; known: {', '.join(names())}")
+        for name in args.generate or names():
             t = time.perf_counter()
             F, P = load(name)
             print(f"{name:9s} {len(F):8d} triangles {len(P):4d} frames  {time.perf_counter() - t:8.1f} s", flush=True)

@@ -316,6 +316,8 @@ def render_from_json(path: str, out: str) -> int:
     not_paper = f"--from-json: '{path}' is not the paper.json of a `bench all` run"
     if not isinstance(results, dict):
         raise ValueError(not_paper)
+    if not isinstance(results.get("machine"), dict):  # every run writes it first; {} rendered "not measured"
+        raise ValueError(f"{not_paper} (it has no 'machine' entry)")
     for key in ("scenes", "steps"):
         rows = results.get(key)
         if rows is not None and not (isinstance(rows, list) and all(isinstance(r, dict) for r in rows)):

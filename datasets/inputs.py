@@ -36,12 +36,32 @@ def _load_mesh(path: str):
         raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
     if not hasattr(m, "faces") or len(m.faces) == 0:
         raise ValueError(f"{path}: no triangles in this file")
+    if path.lower().endswith(".obj"):
+        _refuse_obj_index_zero(path)
     F = np.asarray(m.faces, dtype=np.int64)
     try:  # here, where the file is known: later the same error could not say which file it is in
         V = checks.points("vertices", m.vertices)
     except ValueError as e:
         raise ValueError(f"{path}: {e}") from None
     return F, V
+
+
+# A vertex index 0 on an OBJ face line ("f 0 1 2", "f 0/4/1 ..."): OBJ counts from 1 (negative
+# values count back from the end), so 0 is no vertex. trimesh reads it as -1, the last vertex,
+# and the mesh then came out wrong ("repeats a vertex" at best).
+_OBJ_INDEX_ZERO = re.compile(rb"^[ \t]*f[ \t](?:[^#\n]*[ \t])?0(?:/|[ \t]|\r?$)", re.M)
+
+
+def _refuse_obj_index_zero(path: str) -> None:
+    with open(path, "rb") as fh:
+        text = fh.read()
+    hit = _OBJ_INDEX_ZERO.search(text)
+    if hit:
+        line = text.count(b"\n", 0, hit.start()) + 1
+        end = text.find(b"\n", hit.start())
+        shown = text[hit.start():end if end >= 0 else len(text)].strip().decode(errors="replace")
+        raise ValueError(f"{path}: line {line}: a face refers to vertex 0, but OBJ counts vertices from 1 "
+                         f"({shown[:80]!r})")
 
 
 def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:

@@ -25,6 +25,8 @@ def col(method="nc"):
         (np.vstack([F, [[0, 1, 1]]]), r"faces: row 32 repeats a vertex"),
         (np.array([[0, 1, 2**40]]), r"faces: vertex index 1099511627776 is too large \(at most 2\^31 - 2 = 2147483646"),
         (np.array([[0, 1, 2**31 - 1]]), r"faces: vertex index 2147483647 is too large \(at most 2\^31 - 2 = 2147483646"),
+        ([[0, 1, 2**70]], r"faces: vertex index 1180591620717411303424 is too large \(ids are in \[0, 2\^31 - 2\]\)"),
+        ([[0, -(2**70), 1]], r"faces: vertex index -1180591620717411303424 is negative"),
         (np.array([["a", "b", "c"]]), r"faces: expected an integer array"),
         (np.zeros((0, 4), dtype=np.int64), r"faces: expected shape \(m, 3\)"),
         ([[0, 1, 2], [3, 4]], r"faces: not a rectangular array"),

@@ -67,9 +67,10 @@ class RerunRecorder:
 
     def __init__(self, path: str, faces: np.ndarray, *, recording_id: str | None = None, bvh_depth: int = 4,
                  app_id: str = "conecull", front: bool = False, compare: tuple = ()):
+        self.path = path
         self.rec = rr.RecordingStream(app_id, recording_id=recording_id)
         self.rec.set_log_time_enabled(False)  # deterministic recordings: frame timeline only
-        self.rec.save(path)
+        self._writing(lambda: self.rec.save(path))
         self.rec.send_blueprint(blueprint(front, compare))
         self.faces = np.asarray(faces)
         self.bvh_depth = bvh_depth
@@ -151,8 +152,18 @@ class RerunRecorder:
         self.rec.log(f"{base}/query_ms", rr.Scalars(query_ms))
 
     def close(self):
-        self.rec.flush()
-        self.rec.disconnect()
+        try:
+            self._writing(self.rec.flush)
+        finally:
+            self.rec.disconnect()
+
+    def _writing(self, write):
+        """rerun reports a failed write (a full disk: --out /dev/full) as a RuntimeError, which the
+        CLI would show as a traceback: an OSError naming the file instead."""
+        try:
+            write()
+        except RuntimeError as e:
+            raise OSError(f"cannot write the recording '{self.path}' ({e})") from None
 
 
 def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, recording_id: str | None = None,
@@ -218,12 +229,16 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
             out.append(res.stats)
             if progress:
                 progress(i + 1, len(frame_range))
+        rec.close()  # the last writes: a full disk shows here
     except BaseException:
-        rec.close()
-        with contextlib.suppress(OSError):  # a recording cut short at a bad frame would pass for the whole run
-            os.remove(path)
+        with contextlib.suppress(OSError):
+            rec.close()
+        # A recording cut short would pass for the whole run; only a file we made is removed (never
+        # a device such as /dev/full, which --out may name).
+        if os.path.isfile(path):
+            with contextlib.suppress(OSError):
+                os.remove(path)
         raise
-    rec.close()
     return out
 
 

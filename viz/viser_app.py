@@ -77,6 +77,8 @@ class ViewerApp:
         check_method(method)
         self.frames = checks.frames("frames", frames)
         mesh = conecull.Mesh(faces, n_vertices=self.frames.shape[1])
+        if mesh.n_faces == 0:  # nothing to show, and no BVH to take depths from
+            raise ValueError("faces: no triangles to view")
         self.faces = mesh.faces  # int64
         check_host_port(host, port)  # before the work below: viser hangs on what it cannot bind
         self.host = host

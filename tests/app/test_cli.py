@@ -282,8 +282,10 @@ def test_bench_out_that_is_a_file(tmp_path, capsys):
 
 @pytest.mark.parametrize("content,msg", [
     (None, "--from-json: cannot read"),  # a folder
-    ('{"scenes": 5}', "is not the paper.json of a `bench all` run (its 'scenes' is not a list of rows)"),
-    ('{"scenes": [{"x": 1}]}', "is not the paper.json of a `bench all` run (a row lacks or mistypes"),
+    ('{"machine": {}, "scenes": 5}', "is not the paper.json of a `bench all` run (its 'scenes' is not a list of rows)"),
+    ('{"machine": {}, "scenes": [{"x": 1}]}', "is not the paper.json of a `bench all` run (a row lacks or mistypes"),
+    ('{}', "is not the paper.json of a `bench all` run (it has no 'machine' entry)"),  # was a "not measured" table
+    ('{"scenes": []}', "is not the paper.json of a `bench all` run (it has no 'machine' entry)"),
     ('[1, 2]', "is not the paper.json of a `bench all` run"),
 ])
 def test_bench_from_json_names_a_file_that_is_no_paper_json(tmp_path, content, msg, capsys):
@@ -310,3 +312,25 @@ def test_bench_refusals_leave_no_folder(tmp_path, capsys):
         assert main([*argv, "--out", str(out)]) == 2
         assert msg in capsys.readouterr().err
         assert not out.exists(), argv
+
+
+def test_record_to_a_full_disk(capsys):
+    """rerun reports a failed write as a RuntimeError: the CLI printed a traceback (found by
+    probing with --out /dev/full). Now an error naming the file, exit status 2, and the device
+    itself left alone (a failed recording's file is removed only if it is a regular file)."""
+    if not os.path.exists("/dev/full"):
+        pytest.skip("this system has no /dev/full")
+    assert main(["record", "fold", "--resolution", "10", "--frames", "0:2", "--out", "/dev/full"]) == 2
+    err = capsys.readouterr().err
+    assert "conecull record: error: cannot write the recording '/dev/full'" in err and "No space left" in err
+    assert os.path.exists("/dev/full")
+
+
+def test_scenes_generate_checks_every_name_first(capsys, monkeypatch):
+    """`scenes --generate fold FOLD` generated fold (minutes for a large scene) before refusing FOLD."""
+    import conecull.datasets as datasets
+
+    calls = []
+    monkeypatch.setattr(datasets, "load", lambda name, *a, **k: calls.append(name))
+    assert main(["scenes", "--generate", "fold", "FOLD"]) == 2
+    assert "NAME: unknown scene 'FOLD'" in capsys.readouterr().err and calls == []

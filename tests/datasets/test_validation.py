@@ -157,6 +157,10 @@ def test_an_npz_without_arrays(tmp_path, mesh_file):
     ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", r"bad\.obj: vertices: non-finite coordinate nan at row 0, column 2"),
     ("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n",
      r"bad\.obj: vertices: coordinate 1e\+300 at row 1, column 0 is outside the supported range"),
+    # OBJ counts from 1: trimesh read 0 as -1, the last vertex ("repeats a vertex: [0, 0, 1]")
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 0 2 3\n",
+     r"bad\.obj: line 6: a face refers to vertex 0, but OBJ counts vertices from 1 \('f 0 2 3'\)"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 2/1 0/1 3/1\n", r"bad\.obj: line 4: a face refers to vertex 0"),
 ])
 def test_bad_mesh_files_are_named(tmp_path, text, match):
     (tmp_path / "bad.obj").write_text(text)
@@ -167,6 +171,14 @@ def test_bad_mesh_files_are_named(tmp_path, text, match):
     (d / "bad.obj").write_text(text)
     with pytest.raises(ValueError, match=match):
         load_sequence(str(d))
+
+
+def test_obj_zero_check_leaves_valid_faces_alone(tmp_path):
+    """A 0 that is not a face's vertex index (a texture index, a negative index, a comment)."""
+    p = tmp_path / "ok.obj"
+    p.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nf 1/1 2/1 3/1\nf -4 -3 -1\n# f 0 1 2\n")
+    F, P = load_sequence(str(p))
+    assert F.tolist() == [[0, 1, 2], [0, 1, 3]]
 
 
 @pytest.mark.parametrize("spec,match", [

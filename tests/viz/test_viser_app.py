@@ -48,6 +48,8 @@ def test_viewer_refuses_bad_arguments_before_serving():
             ViewerApp(F, P, **{"port": free_port(), **kwargs})
     with pytest.raises(ValueError, match="frames: expected a sequence of frames"):
         ViewerApp(F, P[0], port=free_port())
+    with pytest.raises(ValueError, match="faces: no triangles to view"):  # was NumPy's "zero-size array"
+        ViewerApp(np.zeros((0, 3), int), np.zeros((2, 3, 3)), port=free_port())
 
 
 def test_printed_address_is_the_served_host(capsys, monkeypatch):

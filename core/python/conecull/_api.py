@@ -47,6 +47,11 @@ def _as_faces(faces) -> np.ndarray:
     # An empty mesh: [] or an empty (0, 3) array (a float literal like np.zeros((0, 3)) too).
     if a.size == 0 and a.dtype.kind in "iuf" and (a.shape == (0,) or a.shape == (0, 3)):
         return np.zeros((0, 3), dtype=np.int32)
+    if a.dtype.kind == "O" and a.size and all(isinstance(x, int) and not isinstance(x, bool) for x in a.flat):
+        # Python ints beyond 64 bits (NumPy keeps them as objects): too large, not "not integers".
+        big = max(a.flat, key=abs)
+        raise ValueError(f"faces: vertex index {big} is {'too large' if big > 0 else 'negative'} (ids are in "
+                         f"[0, 2^31 - 2])")
     if a.dtype.kind not in "iu":
         raise ValueError(f"faces: expected an integer array, got dtype {a.dtype}")
     if a.ndim != 2 or a.shape[1] != 3:
