@@ -46,8 +46,18 @@ def _steps():
     A0 = np.vstack([Vs, Vs + [0.1, 0.05, 0.3]])
     A1 = np.vstack([Vs, Vs + [0.1, 0.05, -0.3]])  # the second sheet passes through the first
     yield "two-sheets", two_F, A0, A1
+    # Contours that nearly meet themselves (meshcases._near_closing), now over a step: a flat
+    # spiral's arms from 1e-10 apart to 1e-10 overlapping (coplanar motion, every contact
+    # degenerate), and a helix's upper turn, 1e-12 above the lower, pressed through it by 1e-6.
+    Fp, P0 = meshcases.spiral_strip(54, 2.25, 0.25, 0.25 + 1e-10)
+    yield "spiral-arms-close", Fp, P0, meshcases.spiral_strip(54, 2.25, 0.25, 0.25 - 1e-10)[1]
+    Fh, H0 = meshcases.ring_strip(28, 1, 2 * np.pi + 0.6, 1e-12)
+    H1 = H0.copy()
+    H1[-2:, 2] -= 1e-6
+    yield "helix-turn-pressed-through", Fh, H0, H1
 
 
 def generated_steps():
-    """(name, faces, V0, V1): folding, crumpling, twisting, two sheets passing through each other."""
+    """(name, faces, V0, V1): folding, crumpling, twisting, two sheets passing through each other,
+    a spiral's arms closing, a helix's turn pressed through the one below."""
     return list(_steps())

@@ -612,6 +612,62 @@ def _numerics():
     return out
 
 
+def ring_strip(nseg, nrad, theta_end, pitch, r0=1.0, r1=2.0):
+    """An annulus strip from angle 0 to theta_end (nseg columns of nrad quads), at height
+    z = pitch * theta / (2 pi): one flat layer, or a helix whose turns are `pitch` apart."""
+    th = np.linspace(0.0, theta_end, nseg + 1)
+    r = np.linspace(r0, r1, nrad + 1)
+    T, R = np.meshgrid(th, r, indexing="ij")  # column i: angle th[i]
+    V = np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel(), (pitch * T / (2 * np.pi)).ravel()])
+    F = []
+    for i in range(nseg):
+        for j in range(nrad):
+            a = i * (nrad + 1) + j
+            b, c = a + 1, a + nrad + 1
+            F += [[a, c, c + 1], [a, c + 1, b]]
+    return np.array(F, dtype=np.int64), V
+
+
+def spiral_strip(nseg, turns, width, spacing):
+    """A flat strip wound as an Archimedean spiral: the inner edge at radius 1 + spacing * theta /
+    (2 pi), the outer `width` further out, so consecutive turns are spacing - width apart (0:
+    touching along a curve). With nseg / turns a whole number, a turn's vertices sit at the
+    angles of the turn before, so its chords run beside theirs, spacing - width apart."""
+    th = np.linspace(0.0, 2 * np.pi * turns, nseg + 1)
+    inner = 1.0 + spacing * th / (2 * np.pi)
+    V = np.empty((2 * (nseg + 1), 3))
+    V[0::2] = np.column_stack([inner * np.cos(th), inner * np.sin(th), np.zeros_like(th)])
+    V[1::2] = np.column_stack([(inner + width) * np.cos(th), (inner + width) * np.sin(th), np.zeros_like(th)])
+    F = []
+    for i in range(nseg):
+        a = 2 * i
+        F += [[a, a + 2, a + 3], [a, a + 3, a + 1]]
+    return np.array(F, dtype=np.int64), V
+
+
+def _near_closing():
+    """Contours that nearly meet themselves, the unprojected contour test's hardest input (and
+    what a fuzzing session found to reach it most often): every normal agrees, so only the
+    contour test can refuse to cull, and it must, exactly when the layers overlap."""
+    out = []
+    F, V = ring_strip(48, 2, 2 * np.pi, 0.0)
+    W = V.copy()
+    W[-3:] = W[:3]  # the last column exactly on the first (other vertex ids): touching along an edge
+    out.append(("ring_closes_exactly", F, W))
+    out.append(("ring_overlaps_by_1e-9", *ring_strip(48, 2, 2 * np.pi + 1e-9, 0.0)))
+    out.append(("ring_short_by_1e-9", *ring_strip(48, 2, 2 * np.pi - 1e-9, 0.0)))
+    F, V = ring_strip(56, 2, 2 * np.pi + 0.6, 1e-12)  # turns 1e-12 apart over 0.6 rad
+    out.append(("helix_turns_1e-12_apart", F, V))
+    W = V.copy()
+    W[-5, 2] -= 1e-6  # a vertex of the upper turn pushed through the lower one
+    out.append(("helix_turns_1e-12_apart_pierced", F, W))
+    out.append(("helix_turns_1e-12_apart_offset_1e6", F, V + np.array([1e6, -1e6, 0.5])))
+    out.append(("spiral_arms_touching", *spiral_strip(108, 2.25, 0.25, 0.25)))
+    out.append(("spiral_arms_1e-10_apart", *spiral_strip(108, 2.25, 0.25, 0.25 + 1e-10)))
+    out.append(("spiral_arms_overlap_1e-10", *spiral_strip(108, 2.25, 0.25, 0.25 - 1e-10)))
+    return out
+
+
 _CACHE = None
 
 
@@ -621,7 +677,7 @@ def all_cases():
     if _CACHE is None:
         cases = []
         for fam in (_folds, _crumples, _tubes, _holes_components, _fans,
-                    _nonmanifold, _numerics):
+                    _nonmanifold, _numerics, _near_closing):
             for name, F, V in fam():
                 F = np.ascontiguousarray(F, dtype=np.int64).reshape(-1, 3)
                 V = np.ascontiguousarray(V, dtype=np.float64).reshape(-1, 3)
