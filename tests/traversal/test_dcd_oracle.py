@@ -56,3 +56,18 @@ def test_nc_really_culls_a_smooth_sheet():
         assert passing >= 0.9 * len(internal), f"only {passing}/{len(internal)} internal nodes pass"
         assert res.stats["elementary_tests"] < aabb.stats["elementary_tests"]
         assert res.stats["contour_passed"] >= 1
+
+
+def test_nc_culls_a_contour_that_comes_within_1e10_of_itself():
+    """Certified is not timid: a flat spiral strip whose arms pass 1e-10 apart has a simple
+    boundary, and the root's contour test proves it (exactly where floating point cannot), so
+    the whole mesh is culled with one contour test and no elementary test; with the arms
+    touching, the same test fails and the collisions are found (test_methods_equal_oracle)."""
+    _, F, V = meshcases.case("spiral_arms_1e-10_apart")
+    res = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)), method="nc").dcd(V)
+    assert len(res.pairs) == 0 and not meshcases.oracle_pairs("spiral_arms_1e-10_apart")
+    assert res.stats["contour_tests"] == 1 and res.stats["contour_passed"] == 1
+    assert res.stats["elementary_tests"] == 0
+    _, F, V = meshcases.case("spiral_arms_touching")
+    res = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)), method="nc").dcd(V)
+    assert res.stats["contour_failed"] >= 1 and len(res.pairs) == len(meshcases.oracle_pairs("spiral_arms_touching")) > 0
