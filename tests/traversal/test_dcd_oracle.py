@@ -60,7 +60,7 @@ def test_nc_really_culls_a_smooth_sheet():
 
 def test_nc_culls_a_contour_that_comes_within_1e10_of_itself():
     """Certified is not timid: a flat spiral strip whose arms pass 1e-10 apart has a simple
-    boundary, and the root's contour test proves it (exactly where floating point cannot), so
+    boundary, and the root's contour test proves it, so
     the whole mesh is culled with one contour test and no elementary test; with the arms
     touching, the same test fails and the collisions are found (test_methods_equal_oracle)."""
     _, F, V = meshcases.case("spiral_arms_1e-10_apart")
