@@ -116,7 +116,8 @@ class Mesh:
             raise ValueError(f"n_vertices: {n_vertices} is too large (at most 2^31 - 1 = {2**31 - 1})")
         need = MESH_BYTES_PER_VERTEX * int(n_vertices) + MESH_BYTES_PER_FACE * len(f)
         if need > memory_bytes():
-            what = (f"faces: {len(f)} face{'' if len(f) == 1 else 's'} whose largest vertex index, {needed - 1}, means {needed} vertices"
+            faces_word = "face" if len(f) == 1 else "faces"
+            what = (f"faces: {len(f)} {faces_word} whose largest vertex index, {needed - 1}, means {needed} vertices"
                     if n_vertices == needed else f"n_vertices: {int(n_vertices)} vertices")
             raise ValueError(f"{what} would need about {need / 2**30:.3g} GiB (the topology and one (n, 3) float64 "
                              f"positions array), more than this machine's {memory_bytes() / 2**30:.3g} GiB of memory")
