@@ -233,7 +233,7 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
     except BaseException:
         with contextlib.suppress(OSError):
             rec.close()
-        # A recording cut short would pass for the whole run; only a file we made is removed (never
+        # A recording cut short would pass for the whole run; only a regular file is removed (never
         # a device such as /dev/full, which --out may name).
         if os.path.isfile(path):
             with contextlib.suppress(OSError):

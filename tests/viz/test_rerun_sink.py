@@ -208,3 +208,22 @@ def test_compare_refuses_a_method_that_disagrees(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match=r"compare: method 'sct' found other collisions than 'nc' at frame \d"):
         record(str(path), F, frames, method="nc", compare=["sct"], recording_id="test-disagree")
     assert not path.exists()
+
+
+def test_a_failed_last_write_is_an_error_naming_the_file(tmp_path, monkeypatch):
+    """A write that fails at the end (a disk filling up while recording; simulated: rerun's flush
+    raising as it does for a full disk) is an OSError naming the file, and the cut-short file is
+    removed, not left to pass for a whole run."""
+    from conecull.datasets.generated import folding_sheet
+    from conecull.viz.rerun_sink import record
+
+    F, P = folding_sheet(200, 3)
+
+    def full(self, *args, **kwargs):
+        raise RuntimeError("Failed to write: No space left on device (os error 28)")
+
+    monkeypatch.setattr(rr.RecordingStream, "flush", full)
+    out = tmp_path / "run.rrd"
+    with pytest.raises(OSError, match=r"cannot write the recording '.*run\.rrd' \(Failed to write: No space left"):
+        record(str(out), F, P)
+    assert not out.exists()
