@@ -1,10 +1,12 @@
 // SelfCollider bindings (core/include/conecull/collider.hpp).
+#include <csignal>
 #include <memory>
 #include <mutex>
 #include <string>
 
 #include "conecull/collider.hpp"
 #include "conecull/contour/contour_test.hpp"
+#include "conecull/interrupt.hpp"
 #include "conecull/parallel.hpp"
 #include "stages.hpp"
 
@@ -18,6 +20,78 @@ struct PyCollider {
     std::mutex mutex;
     PyCollider(std::shared_ptr<const Topology> t, Method m, int32_t leaf, int threads)
         : collider(std::move(t), m, leaf, threads) {}
+};
+
+// Ctrl-C during a CCD query on Python's main thread (interrupt.hpp). For the query's duration a
+// SIGINT handler of ours sets the flag the query reads, then calls the handler it replaced
+// (Python's, which notes the signal for the interpreter), so nothing is lost; afterwards the old
+// handler is back. Only on the main thread, where Python raises KeyboardInterrupt, and only
+// while SIGINT's Python handler is the default one, which raises it: a program with a handler of
+// its own (or none) keeps its queries whole.
+std::atomic<bool> g_sigint{false};
+struct sigaction g_replaced {};
+unsigned long g_main_thread = 0;  // threading.main_thread().ident, read at import
+
+// With the GIL: whether a query starting now on this thread may be interrupted.
+bool interruptible_here() {
+    if (PyThread_get_thread_ident() != g_main_thread) return false;
+    // Handles kept for the process (released, never decref'd: a static py::object would be
+    // destroyed after the interpreter, without the GIL, which aborts the exit).
+    static const py::handle getsignal = py::object(py::module_::import("signal").attr("getsignal")).release();
+    static const py::handle sigint = py::object(py::module_::import("signal").attr("SIGINT")).release();
+    static const py::handle default_handler =
+        py::object(py::module_::import("signal").attr("default_int_handler")).release();
+    return getsignal(sigint).is(default_handler);
+}
+
+void on_sigint(int sig, siginfo_t* info, void* context) {
+    g_sigint.store(true, std::memory_order_relaxed);
+    if (g_replaced.sa_flags & SA_SIGINFO) {
+        if (g_replaced.sa_sigaction) g_replaced.sa_sigaction(sig, info, context);
+    } else if (g_replaced.sa_handler != SIG_DFL && g_replaced.sa_handler != SIG_IGN && g_replaced.sa_handler) {
+        g_replaced.sa_handler(sig);
+    }
+}
+
+class SigintScope {
+   public:
+    // Needs no GIL (the query holds the collider's lock around it); interruptible: as
+    // interruptible_here() said before the GIL was released.
+    SigintScope(SelfCollider& collider, bool interruptible) : collider_(collider) {
+        collider.set_interrupt(nullptr);
+        if (!interruptible) return;
+        struct sigaction current {};
+        if (sigaction(SIGINT, nullptr, &current) != 0) return;
+        const bool python_handles = (current.sa_flags & SA_SIGINFO) ? current.sa_sigaction != nullptr
+                                                                     : current.sa_handler != SIG_DFL && current.sa_handler != SIG_IGN;
+        if (!python_handles) return;
+        g_sigint.store(false);
+        g_replaced = current;
+        struct sigaction ours {};
+        ours.sa_sigaction = on_sigint;
+        ours.sa_flags = SA_SIGINFO | SA_ONSTACK;
+        sigemptyset(&ours.sa_mask);
+        if (sigaction(SIGINT, &ours, nullptr) != 0) return;
+        installed_ = true;
+        collider.set_interrupt(&g_sigint);
+    }
+    ~SigintScope() {
+        if (installed_) sigaction(SIGINT, &g_replaced, nullptr);
+        collider_.set_interrupt(nullptr);
+    }
+    SigintScope(const SigintScope&) = delete;
+    SigintScope& operator=(const SigintScope&) = delete;
+
+    // After an Interrupted query, with the GIL held: the KeyboardInterrupt that Python's default
+    // handler raises for the signal, through error_already_set.
+    [[noreturn]] static void raise_interrupt() {
+        if (PyErr_CheckSignals() == 0) PyErr_SetNone(PyExc_KeyboardInterrupt);
+        throw py::error_already_set();
+    }
+
+   private:
+    SelfCollider& collider_;
+    bool installed_ = false;
 };
 
 // The collider's lock for a snapshot of its structures (bvh_arrays and the like): a query on
@@ -165,6 +239,7 @@ py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
 }  // namespace
 
 void bind_collider(py::module_& m) {
+    g_main_thread = py::module_::import("threading").attr("main_thread")().attr("ident").cast<unsigned long>();
     py::class_<PyCollider, std::shared_ptr<PyCollider>>(m, "SelfCollider", py::module_local())
         .def(py::init([](std::shared_ptr<Topology> topo, const std::string& method, int leaf_size, int threads) {
                  if (!topo) throw py::value_error("topology: must not be None");
@@ -211,11 +286,17 @@ void bind_collider(py::module_& m) {
                 const Arithmetic mode = parse_arithmetic(arithmetic);
                 CcdResult res;
                 RecordingTracer tracer;
-                without_gil([&] {
-                    std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads,
-                                            stop_at_first);
-                });
+                const bool interruptible = interruptible_here();
+                try {
+                    without_gil([&] {
+                        std::lock_guard<std::mutex> lock(self.mutex);
+                        const SigintScope sigint(self.collider, interruptible);  // under the lock: this query's flag
+                        res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads,
+                                                stop_at_first);
+                    });
+                } catch (const Interrupted&) {
+                    SigintScope::raise_interrupt();
+                }
                 py::dict st = stats_dict(res.stats, self.collider.method());
                 const CcdStats& c = res.stats;
                 st["vf_candidates"] = c.vf_candidates;

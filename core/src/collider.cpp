@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "conecull/elementary/triangles_apart.hpp"
+#include "conecull/interrupt.hpp"
 #include "conecull/parallel.hpp"
 #include "conecull/trace/null_tracer.hpp"
 
@@ -627,11 +628,16 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
         CcdTally& out = outs[k];
         run_tests(out, [&] {
             for (int64_t i = keys.begin(k); i < keys.end(k); ++i) {
+                // interrupt.hpp; from each chunk's first test on, so that the chunks still to
+                // run after the flag stop at once (measured: 0.8-1.0 s late on two threads with
+                // i % stride, which let each run up to 63 tests first)
+                if ((i - keys.begin(k)) % kInterruptStride == 0 && interrupt_requested(interrupt_)) return;
                 if (i < n_vf) test_vf(vf_keys[i], out);
                 else test_ee(ee_keys[i - n_vf], out);
             }
         });
     });
+    if (interrupt_requested(interrupt_)) throw Interrupted{};
     gather(outs.data(), outs.size());
     st.seconds_elementary = seconds_since(t0);
 }

@@ -3,6 +3,8 @@
 // culling; elementary tests).
 #pragma once
 
+#include <atomic>
+
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -80,6 +82,10 @@ class SelfCollider {
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
                   bool want_toi = false, int threads = 0, bool stop_at_first = false);
 
+    // A flag that, once set, makes the running CCD query abandon its elementary tests and throw
+    // Interrupted (interrupt.hpp); null: never. Set between queries by the caller.
+    void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
+
     bool built() const { return built_; }
     Method method() const { return method_; }
     int threads() const { return resolve_threads(threads_); }
@@ -105,6 +111,7 @@ class SelfCollider {
     int32_t leaf_size_;
     int threads_;            // default, <= 0: all cores
     int query_threads_ = 1;  // the current query's, resolved
+    const std::atomic<bool>* interrupt_ = nullptr;
     ParallelTraversalScratch parallel_;
     bool built_ = false;
     Bvh bvh_;
