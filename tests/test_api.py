@@ -339,8 +339,8 @@ import numpy as np
 import conecull
 from conecull.datasets.generated import crumpling_sphere
 
-F, P = crumpling_sphere(n_lat=4, n_lon=8, n_frames=2)
-V0, V1 = P[0], -3 * P[0] + 0.1  # every vertex through nearly one point: ~3300 exact-engine tests, ~3 s
+F, P = crumpling_sphere(n_lat=5, n_lon=8, n_frames=2)
+V0, V1 = P[0], -3 * P[0] + 0.1  # every vertex through nearly one point: ~6000 exact-engine tests, ~6 s
 mode, threads = sys.argv[1], int(sys.argv[2])
 mesh = conecull.Mesh(F)
 col = conecull.SelfCollider(mesh, method="nc", threads=threads)
@@ -378,8 +378,9 @@ except KeyboardInterrupt as e:
 def test_ctrl_c_interrupts_a_slow_ccd_query(threads):
     """SIGINT during a CCD query's elementary tests on the main thread raises KeyboardInterrupt
     from the query, well before it would end: 0.04-0.08 s after the signal (measured), against
-    ~2.8 s more for the whole query, which is what Ctrl-C waited for before; asserted below
-    1.5 s. The collider then answers as a fresh one does, and Python's handler is back."""
+    2.5-5.5 s more for the whole query (two threads, one), which is what Ctrl-C waited for
+    before; asserted below 0.5 s. The collider then answers as a fresh one does, and Python's
+    handler is back."""
     import subprocess
     import sys
 
@@ -387,7 +388,7 @@ def test_ctrl_c_interrupts_a_slow_ccd_query(threads):
                          text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     words = out.stdout.split()
-    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < 1.5, out.stdout
+    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < 0.5, out.stdout
 
 
 @pytest.mark.parametrize("mode", ["custom", "worker"])
