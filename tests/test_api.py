@@ -379,8 +379,10 @@ def test_ctrl_c_interrupts_a_slow_ccd_query(threads):
     """SIGINT during a CCD query's elementary tests on the main thread raises KeyboardInterrupt
     from the query, well before it would end: 0.04-0.08 s after the signal (measured), against
     2.5-5.5 s more for the whole query (two threads, one), which is what Ctrl-C waited for
-    before; asserted below 0.5 s. The collider then answers as a fresh one does, and Python's
-    handler is back."""
+    before; asserted below 0.5 s (10 s under ./dev.sh sanitize, where a test is ~15x slower:
+    1.0 s measured there, against ~50 s for the whole query). The collider then answers as a
+    fresh one does, and Python's handler is back."""
+    import os
     import subprocess
     import sys
 
@@ -388,7 +390,8 @@ def test_ctrl_c_interrupts_a_slow_ccd_query(threads):
                          text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     words = out.stdout.split()
-    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < 0.5, out.stdout
+    bound = 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
+    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < bound, out.stdout
 
 
 @pytest.mark.parametrize("mode", ["custom", "worker"])
