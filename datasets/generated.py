@@ -22,17 +22,18 @@ def _frame_count(n_frames, n_vertices: int) -> int:
 
 
 def _query_ready(P: np.ndarray, args: str) -> np.ndarray:
-    """P, if every coordinate is one a query accepts (finite; zero or a magnitude in [2^-128, 2^128]:
-    core/bindings/common.hpp), else a ValueError naming the arguments that scale it. Finite
-    arguments can still overflow (crumpling_sphere(strength=1.7e308) gave inf with only NumPy's
-    warning): a generator never hands out positions that every query would refuse."""
-    a = np.abs(P)
+    """P, if every coordinate is finite and within the queries' range (_api.RANGE_RULE), else a
+    ValueError naming the arguments that scale it. Finite arguments can still overflow
+    (crumpling_sphere(strength=1.7e308) gave inf with only NumPy's warning): a generator never
+    hands out positions that every query would refuse."""
+    from conecull._api import RANGE_RULE, _outside_range
+
     with np.errstate(invalid="ignore"):
-        bad = ~np.isfinite(a) | (a > 2.0**128) | ((a != 0) & (a < 2.0**-128))
+        bad = ~np.isfinite(P) | _outside_range(P)
     if bad.any():
         v = float(P.flat[int(np.argmax(bad))])
         raise ValueError(f"{args}: the positions would reach {v!r}, which no query accepts (coordinates must be "
-                         "finite, and zero or of magnitude in [2^-128, 2^128])")
+                         f"finite; {RANGE_RULE})")
     return P
 
 
@@ -71,7 +72,7 @@ def fold(V: np.ndarray, angle: float, x0: float = 0.5, radius: float = 0.05) -> 
     The part x > x0 wraps around a cylinder of the given radius, then continues straight, so
     the surface stays smooth; for angle > pi it passes through the other half.
     """
-    V = _query_ready(points("V", V), "V")
+    V = points("V", V)  # finite and within the queries' range
     angle, x0 = real("angle", angle), real("x0", x0)
     radius = real("radius", radius, 0.0, low_open=True)  # the bend divides by it
     W = V.copy()
