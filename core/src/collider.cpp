@@ -529,6 +529,12 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             return false;
         };
         const auto no_prefetch = [](const TrianglePair&, int) {};
+        // A look at the interrupt flag (interrupt.hpp) before each candidate's tests (a dozen or
+        // so VF/EE pairs, each costlier than the look): once it is set, every scan stops as if at
+        // a contact, ending the query's blocks and chunks at once, and the query throws below.
+        const auto contact_or_interrupt = [&](const TrianglePair& c, CcdTally& out) {
+            return interrupt_requested(interrupt_) || first_contact(c, out);
+        };
         std::vector<CcdTally> outs;
         size_t counted = 0;
         bool done = false;
@@ -549,7 +555,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                         int64_t i = 0;
                         run_tests(out, [&] {
                             i = list.find_in_range(
-                                0, list.size(), [&](const TrianglePair& p) { return first_contact(p, out); }, no_prefetch);
+                                0, list.size(), [&](const TrianglePair& p) { return contact_or_interrupt(p, out); },
+                                no_prefetch);
                         });
                         return i;
                     };
@@ -558,6 +565,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                 const FirstHit hit = method_ == Method::kNc ? run(std::true_type{}) : run(std::false_type{});
                 candidates_.clear();
                 candidate_list_.set(candidates_);
+                if (interrupt_requested(interrupt_)) throw Interrupted{};
                 std::vector<CcdTally> ordered(hit.tasks);
                 for (size_t i = 0; i < hit.tasks; ++i) ordered[i] = std::move(outs[parallel_.run_order[i]]);
                 outs.swap(ordered);
@@ -585,10 +593,12 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                 int64_t i = 0;
                 run_tests(out, [&] {
                     i = candidates.find_in_range(
-                        ch.begin(k), ch.end(k), [&](const TrianglePair& c) { return first_contact(c, out); }, no_prefetch);
+                        ch.begin(k), ch.end(k), [&](const TrianglePair& c) { return contact_or_interrupt(c, out); },
+                        no_prefetch);
                 });
                 if (i < ch.end(k)) first_hit.found(k);
             });
+            if (interrupt_requested(interrupt_)) throw Interrupted{};
             counted = static_cast<size_t>(std::min(first_hit.get() + 1, ch.count));
             st.seconds_elementary = seconds_since(t0);
         }

@@ -3,9 +3,10 @@
 // The slow queries are slow in their elementary tests (exact CCD on steps where every pair is
 // near-degenerate: about 1 ms per pair), and these come last: the refit, the traversal and the
 // front are complete by then, so abandoning the tests leaves the collider as a finished query
-// would, minus its result. The bindings point a query at a flag that their SIGINT handler sets;
-// the test loops read it every kInterruptStride tests and stop; the query then throws
-// Interrupted, which the bindings turn into KeyboardInterrupt.
+// would, minus its result (a first-hit query's traversal, which runs with its tests, learns
+// nothing either). The bindings point a query at a flag that their SIGINT handler sets; the test
+// loops read it every kInterruptStride tests (a first-hit query: before each candidate's tests)
+// and stop; the query then throws Interrupted, which the bindings turn into KeyboardInterrupt.
 #pragma once
 
 #include <atomic>
