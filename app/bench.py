@@ -168,11 +168,11 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
     """What accuracy costs in time: per arithmetic mode, on the shared real steps and a generated
     64K cloth step, ms per step, us per elementary test, FN and FP against ground truth; and the
     same for the single-query sets. Method nc, one thread (or `threads`), medians of `repeats` runs."""
-    from conecull.datasets.shared import ccd_query_files, load_ccd_queries, shared_data_dir
+    from conecull.datasets.shared import ccd_query_files, load_ccd_queries, shared_data_dir, shared_data_missing
 
     data = shared_data_dir()
     if data is None:
-        print("../shared/data not found (set CONECULL_SHARED); only the generated step is measured")
+        print(f"{shared_data_missing()}: only the generated step is measured")
 
     steps = [(f"{name} ({len(F) // 1000}K)", F, *rest) for name, F, *rest in shared_steps()]
     steps.extend(_generated_ccd_steps(n_triangles))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 
@@ -45,14 +46,24 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--method", choices=list(METHODS), default="nc", help="culling method shown first; the viewer "
                    "switches between all (default nc)")
 
-    p = sub.add_parser("explain", help="print the verdict and its reason for one BVH node at one frame")
+    p = sub.add_parser("explain", help="why a BVH node was culled or not, or why a triangle or a pair of triangles "
+                                       "collides or was never tested, at one frame (or, with --ccd, one step)")
     p.add_argument("input", help=INPUT_HELP)
     p.add_argument("--positions", help="an .npz (or .npy) of positions (T, n, 3) when INPUT is one mesh file")
     p.add_argument("--resolution", type=int, help="a scene's resolution (default: the scene's own; see `conecull scenes`)")
-    p.add_argument("--frame", type=int, required=True, help="the frame to query, counted from 0 (required)")
-    p.add_argument("--node", type=int, required=True,
-                   help="the BVH node id, 0 the root (required; `conecull record` shows node ids in its log)")
+    p.add_argument("--frame", type=int, required=True, help="the frame to query, counted from 0 (required; with "
+                                                           "--ccd, the step from this frame to the next)")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--node", type=int, help="a BVH node id, 0 the root (`conecull record` logs node ids)")
+    what.add_argument("--face", type=int, help="a triangle id: the collisions it takes part in and why the region "
+                                               "holding each was not culled (`check` and `record` print ids)")
+    what.add_argument("--pair", type=int, nargs=2, metavar=("I", "J"),
+                      help="two triangle ids: do they collide, and the verdict of the smallest node holding both")
     p.add_argument("--method", choices=list(METHODS), default="nc", help=method_help)
+    p.add_argument("--ccd", action="store_true", help="explain the CCD step from --frame to the next (default: DCD "
+                                                      "at --frame)")
+    p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
+                   help="CCD arithmetic (default exact)")
 
     p = sub.add_parser("check", help="is each frame intersection-free (and, with --ccd, each step collision-free)? "
                                      "Prints the first collision found; exit status 1 if any, 0 if none")
@@ -111,6 +122,10 @@ def main(argv: list[str] | None = None) -> int:
     args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
         return _run(args)
+    except BrokenPipeError:  # the reader of our output left (`| head`): nothing to report
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # Python's own flush at exit would fail again
+        return 1
     except (ValueError, OSError, MemoryError) as e:  # OSError: a file that cannot be read or written
         print(f"conecull {args.command}: error: {_as_option(str(e))}", file=sys.stderr)
         return 2
@@ -131,11 +146,15 @@ def _as_option(message: str) -> str:
     return f"{OPTION_OF[head]}: {rest}" if sep and head in OPTION_OF else message
 
 
-def _progress(done: int, total: int) -> None:
+def _progress(done: int, total: int, unit: str = "frames") -> None:
     width = 30
     fill = width * done // total
     end = "\n" if done == total else ""
-    print(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} frames", end=end, file=sys.stderr, flush=True)
+    print(f"\r[{'#' * fill}{'.' * (width - fill)}] {done}/{total} {unit}", end=end, file=sys.stderr, flush=True)
+
+
+def _plural(n: int, word: str) -> str:
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
 def _check_out_file(out: str) -> None:
@@ -143,6 +162,22 @@ def _check_out_file(out: str) -> None:
     from conecull.datasets.checks import writable_file
 
     writable_file("--out", out)
+
+
+def _explain_command(args, what: str) -> str:
+    """The `conecull explain` command line for the same input and method as `args`."""
+    import shlex
+
+    from conecull.datasets.inputs import DEFAULT_SCENE
+
+    words = ["conecull", "explain", args.input or DEFAULT_SCENE]
+    if args.positions:
+        words += ["--positions", args.positions]
+    if args.resolution is not None:
+        words += ["--resolution", str(args.resolution)]
+    if args.method != "nc":
+        words += ["--method", args.method]
+    return " ".join(shlex.quote(w) for w in words) + " " + what
 
 
 def _check(args) -> int:
@@ -161,7 +196,9 @@ def _check(args) -> int:
         res = col.dcd(frames[k], stop_at_first=True)
         if len(res.pairs):
             bad += 1
-            print(f"frame {k}: self-intersecting: triangles {res.pairs[0][0]} and {res.pairs[0][1]} intersect")
+            i, j = res.pairs[0]
+            print(f"frame {k}: self-intersecting: triangles {i} and {j} intersect; why they were tested: "
+                  + _explain_command(args, f"--frame {k} --pair {i} {j}"))
         else:
             print(f"frame {k}: intersection-free")
         if args.ccd and k + 1 in rng:
@@ -176,7 +213,10 @@ def _check(args) -> int:
                 print(f"step {k} -> {k + 1}: collision-free ({args.arithmetic})")
                 continue
             bad += 1
-            print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, not before t = {step.toi[0]:.6g}")
+            face = int(step.vf[0][1]) if len(step.vf) else int(mesh.edge_faces[1][mesh.edge_faces[0][step.ee[0][0]]])
+            print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, not before t = {step.toi[0]:.6g}; "
+                  "why: " + _explain_command(args, f"--frame {k} --ccd --face {face}"
+                                             + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else "")))
     kinds = "frames and steps" if args.ccd else "frames"
     print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide" if bad else
           f"{len(F)} triangles, method {args.method}: no collision in the {kinds} checked")
@@ -291,10 +331,11 @@ def _run(args) -> int:
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
-                       progress=_progress if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
+                       progress=(lambda d, t: _progress(d, t, "steps" if args.ccd else "frames"))
+                       if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
                        arithmetic=args.arithmetic, compare=compare)
-        kind = f"CCD steps ({args.arithmetic})" if args.ccd else "frames"
-        print(f"wrote {args.out}: {len(stats)} {kind}, {len(F)} triangles, method {args.method}; "
+        kind = f"{_plural(len(stats), 'CCD step')} ({args.arithmetic})" if args.ccd else _plural(len(stats), "frame")
+        print(f"wrote {args.out}: {kind}, {len(F)} triangles, method {args.method}; "
               f"open it with: {rerun_command(args.out)}")
         return 0
     if args.command == "view":
@@ -309,15 +350,31 @@ def _run(args) -> int:
     if args.command == "explain":
         import conecull
         from conecull.datasets.inputs import load_sequence
-        from conecull.viz.explain import explain_node
+        from conecull.viz.checks import check_method
+        from conecull.viz.explain import explain_face, explain_node, explain_pair
 
+        check_method(args.method, args.ccd, "--method")
         F, frames = load_sequence(args.input, args.positions, args.resolution)
-        if not 0 <= args.frame < len(frames):
-            raise ValueError(f"--frame: {args.frame} is out of range: the input has frames 0..{len(frames) - 1}")
+        last = len(frames) - 1 - bool(args.ccd)  # a step needs the next frame
+        if not 0 <= args.frame <= last:
+            raise ValueError(f"--frame: {args.frame} is out of range: the input has frames 0..{len(frames) - 1}"
+                             + (f", so steps start at frames 0..{last}" if args.ccd else ""))
         col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
         col.dcd(frames[0])  # the BVH (and so node ids) come from the first frame, as in `record`
-        res = col.dcd(frames[args.frame], trace=True)
-        print(explain_node(col, res, args.node, node_name="--node"))
+        k = args.frame
+        if args.ccd:
+            res = col.ccd(frames[k], frames[k + 1], arithmetic=args.arithmetic, trace=True, toi=True)
+            head = f"step {k} -> {k + 1} ({args.arithmetic}), method {args.method}:"
+        else:
+            res = col.dcd(frames[k], trace=True)
+            head = f"frame {k}, method {args.method}:"
+        if args.node is not None:
+            text = explain_node(col, res, args.node, node_name="--node")
+        elif args.face is not None:
+            text = explain_face(col, res, args.face, name="--face")
+        else:
+            text = explain_pair(col, res, *args.pair, names=("--pair", "--pair"))
+        print(head + "\n" + text)
         return 0
     if args.command == "check":
         return _check(args)

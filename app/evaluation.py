@@ -407,6 +407,13 @@ def parse_sizes(text: str) -> tuple:
         raise ValueError(f"--sizes: expected comma-separated triangle counts, got '{text}'") from None
     if not sizes or min(sizes) < 8:
         raise ValueError(f"--sizes: expected triangle counts >= 8, got '{text}'")
+    # The scaling section holds every size's sheet at once: per triangle at least its 4 frames of
+    # positions (about half a vertex each, 24 bytes) and its topology (MESH_BYTES_PER_FACE), a
+    # lower bound of what it needs; a size beyond it is refused now, not after the other sections.
+    from conecull._api import MESH_BYTES_PER_FACE
+    from conecull.datasets.checks import fits_in_memory
+
+    fits_in_memory("--sizes", sum(sizes) * (4 * 12.0 + MESH_BYTES_PER_FACE), f"sheets of {sum(sizes)} triangles in all")
     return sizes
 
 

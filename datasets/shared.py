@@ -31,6 +31,14 @@ def shared_data_dir() -> Path | None:
     return None
 
 
+def shared_data_missing() -> str:
+    """Where shared_data_dir() looked, for a message when it found nothing."""
+    env = os.environ.get("CONECULL_SHARED")
+    if env:
+        return f"no data folder at $CONECULL_SHARED/data ({Path(env) / 'data'}; the variable, when set, replaces ../shared)"
+    return "no ../shared/data beside the working directory or this checkout (or set CONECULL_SHARED to its parent)"
+
+
 def exact_double(num: int, den: int) -> float:
     """num/den as a double, refusing a value the data promises to be exact but is not."""
     x = float(Fraction(num, den))

@@ -98,6 +98,15 @@ def check_node(value, n_nodes: int, name: str = "node") -> int:
     return int(value)
 
 
+def check_face(value, n_faces: int, name: str = "face") -> int:
+    """A triangle id of a mesh with n_faces triangles."""
+    if not is_int(value):
+        raise ValueError(f"{name}: expected an integer triangle id in 0..{n_faces - 1}, got {value!r}")
+    if not 0 <= value < n_faces:
+        raise ValueError(f"{name}: {value} is out of range: the mesh has triangles 0..{n_faces - 1}")
+    return int(value)
+
+
 def check_host_port(host, port, host_name: str = "host", port_name: str = "port") -> None:
     """Refuse, before the viewer starts, what it cannot serve: its server starts in a thread
     that on such an error dies or retries for ever, while the caller waits for it."""

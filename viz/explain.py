@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain
-from conecull.viz.checks import check_node
+from conecull.viz.checks import check_face, check_node
 
 
 def parents(bvh: dict) -> np.ndarray:
@@ -88,12 +88,13 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
     contour_i = np.flatnonzero(tr.contour["node"] == node)
     if len(cone_i):
         i = cone_i[0]
+        if not tr.cone["bounded"][i]:
+            lines.append("normal cone: the full cone (no bound below 180 degrees)")
+            lines.append("verdict: not culled, cone_too_wide: " + CONE_TOO_WIDE[1] + ".")
+            return "\n".join(lines)
         ang = float(np.degrees(tr.cone["apex_angle"][i]))
         ax = np.round(tr.cone["axis"][i], 4).tolist()
-        lines.append(f"normal cone: axis {ax}, apex angle {ang:.2f} degrees")
-        if not tr.cone["bounded"][i]:
-            lines.append("verdict: not culled, cone_too_wide: " + CONE_TOO_WIDE[1].format(angle=ang) + ".")
-            return "\n".join(lines)
+        lines.append(f"normal cone: axis {ax}, apex angle at most {ang:.2f} degrees")
     if len(contour_i):
         i = contour_i[0]
         code = int(tr.contour["reason"][i])
@@ -120,3 +121,211 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
     else:
         lines.append("verdict: not examined by normal cones in this query.")
     return "\n".join(lines)
+
+
+# --- Triage: why the region holding a collision was not culled -----------------------------
+#
+# A pair of triangles (or, for CCD, of a triangle and a vertex, or two edges, with the triangles
+# around them) can only be found if no BVH node holding both was culled: culling a node proves
+# its patch free of self-collision. So the answer to "why was this collision not culled away?"
+# is the verdict of the smallest node holding both, and of its ancestors; the pair itself is a
+# candidate of Collide(L, R) between that node's two children (Alg. 2).
+
+
+def face_positions(bvh: dict) -> np.ndarray:
+    """pos[f]: the index of face f in the BVH's triangle order (node ranges are of these)."""
+    pos = np.empty(len(bvh["order"]), np.int64)
+    pos[bvh["order"]] = np.arange(len(bvh["order"]))
+    return pos
+
+
+def smallest_common_nodes(bvh: dict, a, b) -> np.ndarray:
+    """For each k, the smallest BVH node whose triangles include faces a[k] and b[k] (the node
+    itself when a[k] == b[k] is in a leaf), descending from the root level by level."""
+    pos = face_positions(bvh)
+    pa, pb = pos[np.asarray(a, np.int64)], pos[np.asarray(b, np.int64)]
+    node = np.zeros(len(pa), np.int64)
+    left, right, begin, end = bvh["left"], bvh["right"], bvh["begin"], bvh["end"]
+    active = right[node] >= 0
+    while active.any():
+        n = node[active]
+        lc, rc = left[n], right[n]
+        in_l = (begin[lc] <= pa[active]) & (pa[active] < end[lc]) & (begin[lc] <= pb[active]) & (pb[active] < end[lc])
+        in_r = (begin[rc] <= pa[active]) & (pa[active] < end[rc]) & (begin[rc] <= pb[active]) & (pb[active] < end[rc])
+        nxt = np.where(in_l, lc, np.where(in_r, rc, n))
+        moved = nxt != n
+        idx = np.flatnonzero(active)
+        node[idx] = nxt
+        active[idx[~moved]] = False
+        active[idx[moved]] = right[nxt[moved]] >= 0
+    return node
+
+
+def node_verdict(res, node: int) -> tuple[bool | None, str]:
+    """(culled, why) for one node of a traced query: True / False if the normal-cone test judged
+    it, None if it never did (no cone test there)."""
+    tr = res.trace
+    contour_i = np.flatnonzero(tr.contour["node"] == node)
+    if len(contour_i):
+        i = contour_i[0]
+        code = int(tr.contour["reason"][i])
+        star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
+        why = explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], bool(tr.contour["simple"][i]), star_tried)
+        return code == 0, why if code == 0 else f"{REASONS[code][0]}: {why}"
+    cone_i = np.flatnonzero(tr.cone["node"] == node)
+    if len(cone_i) and not tr.cone["bounded"][cone_i[0]]:
+        return False, f"cone_too_wide: {CONE_TOO_WIDE[1]}"
+    method = res.stats.get("method")
+    if method in ("aabb", "aabb+front"):
+        return None, f"method '{method}' uses no normal cones: every node's pairs of overlapping boxes are tested"
+    return None, "not judged by normal cones in this query"
+
+
+def _node_words(bvh: dict, node: int) -> str:
+    nt = int(bvh["end"][node] - bvh["begin"][node])
+    return f"node {node} (depth {int(bvh['depth'][node])}, {nt} triangle{'s' if nt != 1 else ''})"
+
+
+def why_found(col, res, node: int, what: str, collides: bool = True) -> str:
+    """The sentence on the smallest node `node` holding two triangles (`what` says which and
+    whether they collide): if a node on its path to the root was culled, they were never tested
+    (for a collision, a bug); else each node's verdict, and where the pair was met: Collide(L, R)
+    between node's two children, or the leaf itself."""
+    bvh = col.bvh_arrays()
+    path = path_to_root(bvh, node)[::-1]  # root first
+    verdicts = {x: node_verdict(res, x) for x in path}
+    culled = [x for x in path if verdicts[x][0]]
+    if culled:
+        x = culled[0]
+        if collides:
+            return (f"{what}, yet {_node_words(bvh, x)}, which holds both, was culled ({verdicts[x][1]}); that "
+                    "contradicts the collision: please report this as a bug")
+        return f"{what}: they were never tested: {_node_words(bvh, x)}, which holds both, was culled: {verdicts[x][1]}."
+    out = f"{what}: the smallest node holding both, {_node_words(bvh, node)}, was not culled: {verdicts[node][1]}"
+    above = path[:-1]
+    if above and verdicts[node][0] is not None:
+        kinds = sorted({verdicts[a][1].split(":")[0] for a in above})
+        out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
+                else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
+    if bvh["right"][node] < 0:
+        met = "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
+    else:
+        met = (f"The pair is met by Collide(node {int(bvh['left'][node])}, node {int(bvh['right'][node])}), the test "
+               "of its two children against each other (Alg. 2)")
+    if not collides:
+        met += ": tested there if their boxes overlap, and the elementary test found no collision"
+    return f"{out}. {met}."
+
+
+def _pair_sentences(col, res, pairs) -> list[str]:
+    bvh = col.bvh_arrays()
+    nodes = smallest_common_nodes(bvh, pairs[:, 0], pairs[:, 1])
+    return [why_found(col, res, int(n), f"triangles {int(i)} and {int(j)} intersect") for (i, j), n in zip(pairs, nodes)]
+
+
+def _when(toi, k) -> str:
+    return "" if toi is None else f" (not before t = {float(toi[k]):.4g})"
+
+
+def _vf_sentences(col, res, rows, toi) -> list[str]:
+    """rows: (vertex, face) contacts; toi: their times or None. The smallest node holding the
+    face and one of the triangles around the vertex: any such node holds the contact."""
+    bvh = col.bvh_arrays()
+    voff, vids = col.mesh.vertex_faces
+    out = []
+    for k, (v, f) in enumerate(rows):
+        around = vids[voff[v] : voff[v + 1]]
+        nodes = smallest_common_nodes(bvh, around, np.full(len(around), f))
+        g = int(np.argmax(bvh["depth"][nodes]))
+        out.append(why_found(col, res, int(nodes[g]), f"vertex {int(v)} touches triangle {int(f)} during the step"
+                             f"{_when(toi, k)}, next to triangle {int(around[g])}"))
+    return out
+
+
+def _ee_sentences(col, res, rows, toi) -> list[str]:
+    """rows: (edge, edge) contacts; the smallest node holding a triangle around each edge."""
+    bvh = col.bvh_arrays()
+    eoff, eids = col.mesh.edge_faces
+    E = col.mesh.edges
+    out = []
+    for k, (a, b) in enumerate(rows):
+        fa, fb = eids[eoff[a] : eoff[a + 1]], eids[eoff[b] : eoff[b + 1]]
+        A, B = np.repeat(fa, len(fb)), np.tile(fb, len(fa))
+        nodes = smallest_common_nodes(bvh, A, B)
+        g = int(np.argmax(bvh["depth"][nodes]))
+        out.append(why_found(col, res, int(nodes[g]), f"edge {int(a)} ({int(E[a][0])}-{int(E[a][1])}) touches edge "
+                             f"{int(b)} ({int(E[b][0])}-{int(E[b][1])}) during the step{_when(toi, k)}, triangles "
+                             f"{int(A[g])} and {int(B[g])} around them"))
+    return out
+
+
+def collision_sentences(col, res, limit: int | None = None) -> list[str]:
+    """One sentence per collision of a traced query of col (DCD: per colliding pair; CCD: per
+    vertex-face, then edge-edge contact), the first `limit` of them: what collides, and why the
+    smallest node holding it was not culled (why_found)."""
+    check_result(col, res)
+    if not hasattr(res, "vf"):
+        return _pair_sentences(col, res, res.pairs[:limit])
+    n_vf = len(res.vf)
+    toi_vf = None if res.toi is None else res.toi[:n_vf]
+    toi_ee = None if res.toi is None else res.toi[n_vf:]
+    out = _vf_sentences(col, res, res.vf[:limit], toi_vf)
+    left = None if limit is None else max(0, limit - len(out))
+    return out + _ee_sentences(col, res, res.ee[:left], toi_ee)
+
+
+def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
+    """Triangles i and j in a traced query of col: do they collide (DCD: intersect; CCD: touch
+    by a vertex-face or edge-edge contact of their own vertices and edges), and the verdict of
+    the smallest node holding both, which decided whether they were ever tested."""
+    check_result(col, res)
+    i, j = (check_face(x, col.mesh.n_faces, n) for x, n in zip((i, j), names))
+    F, FE = col.mesh.faces, col.mesh.face_edges
+    if hasattr(res, "vf"):
+        vf = [f"vertex {v} and triangle {f}" for v, f in res.vf.tolist()
+              if (f == j and v in F[i]) or (f == i and v in F[j])]
+        ee = [f"edges {a} and {b}" for a, b in res.ee.tolist()
+              if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i])]
+        what = (f"triangles {i} and {j} touch during the step ({'; '.join(vf + ee)})" if vf + ee
+                else f"triangles {i} and {j} do not touch during the step")
+    else:
+        lo, hi = min(i, j), max(i, j)
+        hit = len(res.pairs) > 0 and bool(((res.pairs[:, 0] == lo) & (res.pairs[:, 1] == hi)).any())
+        what = f"triangles {i} and {j} {'intersect' if hit else 'do not intersect'}"
+    if i == j:
+        return f"{what}: a triangle is never tested against itself."
+    node = int(smallest_common_nodes(col.bvh_arrays(), [i], [j])[0])
+    return why_found(col, res, node, what, collides=not what.endswith(("not intersect", "not touch during the step")))
+
+
+def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> str:
+    """Triangle `face` in a traced query of col: the collisions it takes part in (the first
+    `limit` explained, the rest counted), or, if none, the verdict of the smallest node judged
+    that holds it."""
+    check_result(col, res)
+    face = check_face(face, col.mesh.n_faces, name)
+    if hasattr(res, "vf"):
+        F, FE = col.mesh.faces, col.mesh.face_edges
+        vf = np.array([f == face or v in F[face] for v, f in res.vf.tolist()], bool).reshape(-1)
+        ee = np.array([a in FE[face] or b in FE[face] for a, b in res.ee.tolist()], bool).reshape(-1)
+        n = int(vf.sum() + ee.sum())
+        toi = res.toi
+        sentences = _vf_sentences(col, res, res.vf[vf][:limit], None if toi is None else toi[: len(vf)][vf])
+        sentences += _ee_sentences(col, res, res.ee[ee][: limit - len(sentences)],
+                                   None if toi is None else toi[len(vf):][ee])
+    else:
+        mine = res.pairs[(res.pairs[:, 0] == face) | (res.pairs[:, 1] == face)] if len(res.pairs) else res.pairs
+        n = len(mine)
+        sentences = _pair_sentences(col, res, mine[:limit])
+    if n:
+        more = f"\n(and {n - len(sentences)} more)" if n > len(sentences) else ""
+        return f"triangle {face} takes part in {n} collision{'s' if n != 1 else ''}:\n" + "\n".join(sentences) + more
+    bvh = col.bvh_arrays()
+    leaf = int(smallest_common_nodes(bvh, [face], [face])[0])
+    head = f"triangle {face} collides with nothing in this query"
+    judged = [x for x in path_to_root(bvh, leaf) if node_verdict(res, x)[0] is not None]
+    if not judged:
+        return head + "."
+    culled, why = node_verdict(res, judged[0])
+    return (head + f"; the smallest node judged that holds it, {_node_words(bvh, judged[0])}, was "
+            f"{'culled' if culled else 'not culled'}: {why}.")

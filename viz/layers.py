@@ -18,9 +18,11 @@ UNTESTED, CONE_FAILED, CONTOUR_FAILED, CULLED, COLLIDING = range(5)
 STATUS_NAMES = ("not examined", "cone too wide", "contour failed", "culled", "colliding")
 STATUS_COLORS = np.array([[190, 190, 190], [235, 195, 60], [240, 130, 40], [80, 175, 95], [215, 40, 40]], np.uint8)
 
-# One colour per contour reason (Alg. 1 failures 1-5, ineligible 16+).
+# One colour per contour reason (trace.REASONS: Alg. 1 failures 1-5, the sct and cbc baselines' 6
+# and 7, ineligible 16+); tests check that every reason has one.
 REASON_COLORS = {
     0: (80, 175, 95), 1: (150, 80, 200), 2: (240, 130, 40), 3: (60, 140, 230), 4: (220, 60, 160), 5: (120, 120, 120),
+    6: (40, 170, 200), 7: (190, 150, 30),
     17: (90, 90, 90), 18: (160, 60, 60), 19: (100, 160, 160), 20: (200, 200, 80), 21: (140, 100, 60), 22: (60, 100, 60),
 }
 
@@ -38,14 +40,14 @@ class FrameLayers:
     cone_origins: np.ndarray
     cone_vectors: np.ndarray
     cone_bounded: np.ndarray
-    sentences: list               # one plain sentence per failing node
+    sentences: list               # one plain sentence per failing node: contour failures, then cones
 
 
 def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, edge: int = -1,
-                  crossings: int = 0, angle_deg: float = 0.0) -> str:
+                  crossings: int = 0) -> str:
     head = f"node {node} (depth {depth}, {n_tris} triangles) was not culled: "
     if kind == "cone":
-        return head + CONE_TOO_WIDE[1].format(angle=angle_deg) + "."
+        return head + CONE_TOO_WIDE[1] + "."
     return head + explain(code, edge, crossings) + "."
 
 
@@ -107,15 +109,14 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     vecs = np.array([axes_of[int(n)] * 0.5 * size[n] for n in cone_nodes]).reshape(-1, 3)
     bounded = np.isin(cone_nodes, tr.cone["node"][tr.cone["bounded"]])
 
+    # Failed contours first (the rarer and more telling verdict: a log cut short keeps them).
     sentences = []
-    angle = dict(zip(tr.cone["node"].tolist(), np.degrees(tr.cone["apex_angle"])))
-    for node in bad_cone:
-        sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone",
-                                       angle_deg=float(angle[int(node)])))
     for node, code, e, c in zip(tr.contour["node"], tr.contour["reason"], tr.contour["edge"], tr.contour["crossings"]):
         if code != 0:
             sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "contour",
                                            int(code), int(e), int(c)))
+    for node in bad_cone:
+        sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone"))
     return FrameLayers(
         face_status=status, face_colors=STATUS_COLORS[status], contour_nodes=cnodes, contour_strips=strips,
         contour_reasons=tr.contour["reason"][fail], kernels=tr.contour["kernel_end"][fail], rays=proj,

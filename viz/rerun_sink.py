@@ -9,8 +9,14 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/bvh              Boxes3D, BVH nodes at the chosen depth
   /stats/...              Scalars: tests, verdicts by reason, collisions, ms per stage (contour
                           tests included), front entries added/removed (front methods)
-  /log                    TextLog: one plain sentence per failing node
-  /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end)
+  /log                    TextLog: per frame, first one sentence per collision (warning level: what
+                          collides, and why the smallest node holding it was not culled; the
+                          first MAX_COLLISION_LINES), then one per failing node (contour failures
+                          first), MAX_LOG_LINES lines in all, then the count of the rest
+  /scene/collisions       Points3D (DCD): one per colliding pair, between the two triangles'
+                          centroids, labelled with their ids ("12 x 60")
+  /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end),
+                          labelled with their ids and earliest time ("v6 f62 t>=0.766")
   /front/mesh             Mesh3D (front methods): each face coloured by how many BVTT front
                           entries reach it (SelfCollider.front_load), in a second 3D tab
   /stats/compare/<method>/...  Scalars (record's compare=): per compared method, run untraced on
@@ -31,10 +37,12 @@ import rerun.blueprint as rrb
 from conecull.datasets import checks
 from conecull.viz import layers as L
 from conecull.viz.compare import compared_colliders, timed_query
+from conecull.viz.explain import collision_sentences
 from conecull.viz.checks import (check_arithmetic, check_compare, check_depth, check_flag, check_frame_range,
                                  check_method)
 
 MAX_LOG_LINES = 300  # per frame; the count of the rest is logged
+MAX_COLLISION_LINES = 100  # of these, the collisions explained (explain.collision_sentences) at most
 
 
 def compare_path(method: str) -> str:
@@ -46,20 +54,31 @@ def blueprint(front: bool = False, compare: tuple = ()) -> rrb.Blueprint:
     views = rrb.Spatial3DView(origin="/scene", name="mesh and culling")
     if front:
         views = rrb.Tabs(views, rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"))
-    stats = rrb.TimeSeriesView(origin="/stats", contents=["$origin/**", "- /stats/compare/**"], name="stats")
+    # Counts (thousands) and milliseconds (fractions) in separate plots: on one axis the times
+    # lie flat on zero.
+    plots = [rrb.TimeSeriesView(origin="/stats", contents=["$origin/**", "- /stats/compare/**", "- /stats/ms/**"],
+                                name="counts"),
+             rrb.TimeSeriesView(origin="/stats/ms", name="ms per stage")]
     if compare:  # the compared methods in their own plots: one for the contour-test time, one for all
-        stats = rrb.Tabs(stats,
-                         rrb.TimeSeriesView(origin="/stats/compare", name="contour-test ms per method",
-                                            contents=[f"+ {compare_path(m)}/contour_ms" for m in compare]),
-                         rrb.TimeSeriesView(origin="/stats/compare", name="methods compared"))
+        plots += [rrb.TimeSeriesView(origin="/stats/compare", name="contour-test ms per method",
+                                     contents=[f"+ {compare_path(m)}/contour_ms" for m in compare]),
+                  rrb.TimeSeriesView(origin="/stats/compare", name="methods compared")]
+    texts = [rrb.TextLogView(origin="/log", name="why not culled"),
+             rrb.TextDocumentView(origin="/legend", name="face colours")]
+    if front:
+        texts.append(rrb.TextDocumentView(origin="/front/legend", name="front colours"))
     return rrb.Blueprint(
         rrb.Horizontal(
             views,
-            rrb.Vertical(stats, rrb.TextLogView(origin="/log", name="why not culled")),
+            rrb.Vertical(rrb.Tabs(*plots), rrb.Tabs(*texts)),
             column_shares=[3, 2],
         ),
         collapse_panels=True,
     )
+
+
+# Contour verdicts only the baselines give: not plotted (always 0) for the other methods.
+BASELINE_REASONS = {"no_kernel_on_search_line": "sct", "edges_may_overlap": "cbc"}
 
 
 class RerunRecorder:
@@ -102,11 +121,18 @@ class RerunRecorder:
             n_vf = len(res.vf)
             toi = res.toi if res.toi is not None else np.full(n_vf + len(res.ee), np.nan)
             rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0,
-                                                     labels=[f"t>={t:.3f}" for t in toi[:n_vf]]))
+                                                     labels=[f"v{v} f{f} t>={t:.3f}" for (v, f), t in
+                                                             zip(res.vf.tolist(), toi[:n_vf])]))
             E = col.mesh.edges
             strips = [np.vstack([V[E[a]], V[E[b]][::-1]]) for a, b in res.ee]  # both edges of a pair
             rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0,
-                                                         labels=[f"t>={t:.3f}" for t in toi[n_vf:]]))
+                                                         labels=[f"e{a} e{b} t>={t:.3f}" for (a, b), t in
+                                                                 zip(res.ee.tolist(), toi[n_vf:])]))
+        else:  # DCD: which triangles intersect, by id
+            c = V[self.faces].mean(axis=1)
+            rec.log("/scene/collisions", rr.Points3D(0.5 * (c[res.pairs[:, 0]] + c[res.pairs[:, 1]]).reshape(-1, 3),
+                                                     colors=[[215, 40, 40]], radii=-4.0,
+                                                     labels=[f"{i} x {j}" for i, j in res.pairs.tolist()]))
         s = res.stats
         rec.log("/stats/tests/cone", rr.Scalars(s["cone_tests"]))
         rec.log("/stats/tests/contour", rr.Scalars(s["contour_tests"]))
@@ -114,7 +140,8 @@ class RerunRecorder:
         rec.log("/stats/verdict/culled", rr.Scalars(s["contour_passed"]))
         rec.log("/stats/verdict/cone_too_wide", rr.Scalars(s["cone_tests"] - s["cone_passed"]))
         for name, count in s["contour_failed_by_reason"].items():
-            rec.log(f"/stats/verdict/contour_{name}", rr.Scalars(count))
+            if BASELINE_REASONS.get(name, s.get("method")) == s.get("method"):
+                rec.log(f"/stats/verdict/contour_{name}", rr.Scalars(count))
         rec.log("/stats/verdict/ineligible", rr.Scalars(s["contour_ineligible"]))
         rec.log("/stats/collisions", rr.Scalars(s["colliding_pairs"]))
         if hasattr(res, "vf"):
@@ -136,10 +163,17 @@ class RerunRecorder:
                 f"Front entries reaching each face (log scale, grey: none); max {int(load.max()) if len(load) else 0}, "
                 f"{s['front_entries']} entries in all", media_type=rr.MediaType.MARKDOWN))
 
-        for line in lay.sentences[:MAX_LOG_LINES]:
+        n_hits = len(res.vf) + len(res.ee) if hasattr(res, "vf") else len(res.pairs)
+        hits = collision_sentences(col, res, MAX_COLLISION_LINES)
+        for line in hits:
+            rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.WARN))
+        if n_hits > len(hits):
+            rec.log("/log", rr.TextLog(f"... and {n_hits - len(hits)} more collisions", level=rr.TextLogLevel.WARN))
+        room = MAX_LOG_LINES - len(hits)
+        for line in lay.sentences[:room]:
             rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.INFO))
-        if len(lay.sentences) > MAX_LOG_LINES:
-            rec.log("/log", rr.TextLog(f"... and {len(lay.sentences) - MAX_LOG_LINES} more failing nodes", level=rr.TextLogLevel.INFO))
+        if len(lay.sentences) > room:
+            rec.log("/log", rr.TextLog(f"... and {len(lay.sentences) - room} more failing nodes", level=rr.TextLogLevel.INFO))
         return lay
 
     def log_compare(self, frame: int, method: str, stats: dict, query_ms: float):
@@ -204,6 +238,9 @@ def record(path: str, faces, frames, *, method: str = "nc", frame_range=None, re
     checks.writable_file("path", path)  # rerun would say so only after the first query
     col = conecull.SelfCollider(mesh, method=method)
     _query(col.dcd, "frame 0", frames[0])  # node ids depend only on the first pose: stable across commands
+    deepest = int(col.bvh_arrays()["depth"].max())
+    if bvh_depth > deepest:  # no box would be drawn
+        raise ValueError(f"bvh_depth: {bvh_depth} is deeper than this mesh's BVH, whose nodes are at depths 0..{deepest}")
     others = compared_colliders(mesh, compare, frames[0])  # the same BVH as the recorded collider's
     rec = RerunRecorder(path, mesh.faces, recording_id=recording_id, bvh_depth=bvh_depth,
                         front=method.endswith("+front"), compare=compare)

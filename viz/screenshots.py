@@ -7,7 +7,6 @@ import os
 import shutil
 import socket
 import subprocess
-import sys
 import tempfile
 import time
 
@@ -130,7 +129,13 @@ def viser_screenshot(path: str, scene: str = "crumple", frame: int = 20) -> None
 
 
 if __name__ == "__main__":
-    out = sys.argv[1] if len(sys.argv) > 1 else "."
+    import argparse
+
+    parser = argparse.ArgumentParser(prog="python -m conecull.viz.screenshots",
+                                     description="The README's screenshots of the rerun and viser views, taken with "
+                                                 "headless chromium (generates the funnel scene first if not cached)")
+    parser.add_argument("out", nargs="?", default=".", help="folder for the PNGs (default: the current one)")
+    out = parser.parse_args().out
     os.makedirs(out, exist_ok=True)
     viser_screenshot(os.path.join(out, "viser.png"))
     rerun_screenshot(os.path.join(out, "rerun.png"))

@@ -9,8 +9,11 @@ real one is `app.port`.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import threading
 import time
+import traceback
 
 import numpy as np
 import trimesh
@@ -21,7 +24,7 @@ from conecull.datasets import checks
 from conecull.viz import layers as L
 from conecull.viz.compare import timed_query
 from conecull.viz.checks import check_host_port, check_method, url_host
-from conecull.viz.explain import explain_node
+from conecull.viz.explain import explain_face, explain_node
 
 HIGHLIGHT = (30, 90, 255)
 
@@ -92,7 +95,8 @@ class ViewerApp:
         self._lock = threading.Lock()
         self._stop = threading.Event()
 
-        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        with contextlib.redirect_stdout(io.StringIO()):  # viser's own address banner: `view` prints the URL
+            self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.port = self.server.get_port()
         gui = self.server.gui
         gui.add_markdown("**conecull** — why each region was culled or not")
@@ -118,7 +122,7 @@ class ViewerApp:
 
         for handle in (self.frame, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
                        self.show_cones, self.show_boxes, self.compare):
-            handle.on_update(lambda _event: self.update())
+            handle.on_update(lambda _event: self._update_or_show_error())
         self.update()
         self._player = threading.Thread(target=self._play_loop, daemon=True)
         self._player.start()
@@ -131,7 +135,20 @@ class ViewerApp:
     def _play_loop(self):
         while not self._stop.wait(0.3):
             if self.play.value:
-                self.frame.value = (int(self.frame.value) + 1) % len(self.frames)
+                try:
+                    self.frame.value = (int(self.frame.value) + 1) % len(self.frames)
+                except Exception:  # noqa: BLE001 - shown by _update_or_show_error; play goes on
+                    pass
+
+    def _update_or_show_error(self):
+        """update() for the controls' callbacks: an error there (a bug) is printed and shown in the
+        stats panel, and the controls and the player keep working (viser would only log it, and
+        an error raised into the player's thread ended play for good)."""
+        try:
+            self.update()
+        except Exception as e:  # noqa: BLE001
+            traceback.print_exc()
+            self.stats_md.content = f"**error while drawing this frame** ({type(e).__name__}: {e}); please report it"
 
     def update(self):
         with self._lock:
@@ -214,6 +231,11 @@ class ViewerApp:
         bvh = col.bvh_arrays()
         node = node_at_depth(bvh, self.selected_face, int(self.depth.value))
         text = explain_node(col, self.res, node)
+        pairs = self.res.pairs
+        if len(pairs) and ((pairs[:, 0] == self.selected_face) | (pairs[:, 1] == self.selected_face)).any():
+            # A colliding triangle: with which, and why no node holding both was culled (the
+            # node at the chosen depth alone may be culled: the pair lies across two of them).
+            text = explain_face(col, self.res, self.selected_face, limit=3) + "\n" + text
         self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {int(self.frame.value)})\n\n" + \
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()
@@ -233,7 +255,8 @@ class ViewerApp:
 
     def close(self):
         self._stop.set()
-        self.server.stop()
+        with contextlib.redirect_stdout(io.StringIO()):  # viser's "Server stopped"
+            self.server.stop()
 
 
 def serve_forever(app: ViewerApp) -> None:  # pragma: no cover - interactive

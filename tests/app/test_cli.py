@@ -25,6 +25,29 @@ def test_explain_reports_reason(capsys):
     assert "cone_too_wide" in capsys.readouterr().out
 
 
+def test_check_then_explain_a_collision(capsys):
+    """The triage path: `check` names the first colliding pair and prints the `explain` command
+    that says why it was tested; that command names the smallest node holding both and its
+    verdict. With --ccd, a contact's triangle (--face) the same way."""
+    assert main(["check", "fold", "--frames", "27:29", "--ccd"]) == 1
+    out = capsys.readouterr().out
+    pair = next(line for line in out.splitlines() if line.startswith("frame 28: self-intersecting"))
+    command = pair.split("why they were tested: ")[1].split()
+    assert command[:4] == ["conecull", "explain", "fold", "--frame"]
+    assert main(command[1:]) == 0
+    i, j = command[-2:]
+    text = capsys.readouterr().out
+    assert text.startswith(f"frame 28, method nc:\ntriangles {i} and {j} intersect: the smallest node holding both")
+    step = next(line for line in out.splitlines() if line.startswith("step 27 -> 28: contact"))
+    command = step.split("why: ")[1].split()
+    assert command[3:7] == ["--frame", "27", "--ccd", "--face"]
+    assert main(command[1:]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith("step 27 -> 28 (exact), method nc:\ntriangle ") and "touches" in text
+    assert main(["explain", "fold", "--frame", "3", "--pair", "0", "1", "--method", "aabb"]) == 0
+    assert "do not intersect" in capsys.readouterr().out
+
+
 def test_explain_known_failing_contour(capsys):
     """A node whose contour test fails on a known reason: find one in the trace, then explain it."""
     import conecull
@@ -72,6 +95,12 @@ def test_folder_and_npz_inputs(tmp_path, capsys):
     (["record", "fold", "--frames", "x"], "expected A:B or K"),
     (["explain", "fold", "--frame", "99", "--node", "0"], "--frame: 99 is out of range"),
     (["explain", "fold", "--frame", "0", "--node", "99999"], "--node: 99999 is out of range"),
+    (["explain", "fold", "--frame", "0", "--face", "2048"], "--face: 2048 is out of range: the mesh has triangles 0..2047"),
+    (["explain", "fold", "--frame", "0", "--pair", "0", "-3"], "--pair: -3 is out of range"),
+    (["explain", "fold", "--frame", "29", "--face", "0", "--ccd"],
+     "--frame: 29 is out of range: the input has frames 0..29, so steps start at frames 0..28"),
+    (["explain", "fold", "--frame", "3", "--face", "0", "--ccd", "--method", "sct"], "--method: 'sct' is a discrete"),
+    (["record", "fold", "--depth", "30"], "--depth: 30 is deeper than this mesh's BVH"),
     (["record", "no/such/path", "--resolution", "8"], "neither a scene"),
     (["record", "fold", "--resolution", "1"], "resolution: expected an integer >= 3"),
     (["scenes", "--generate", "nope"], "NAME: unknown scene 'nope'"),
@@ -86,6 +115,7 @@ def test_folder_and_npz_inputs(tmp_path, capsys):
     (["bench", "threads", "--threads", "0"], "--threads: expected an integer in [1, 1024], got 0"),
     (["bench", "all", "--sizes", "abc"], "--sizes: expected comma-separated triangle counts, got 'abc'"),
     (["bench", "all", "--sizes", "4"], "--sizes: expected triangle counts >= 8"),
+    (["bench", "all", "--sizes", "16000,10000000000"], "--sizes: sheets of 10000016000 triangles in all would need about"),
 ])
 def test_cli_errors(argv, msg, capsys):
     assert main(argv) == 2
@@ -121,7 +151,7 @@ def test_record_a_real_step_from_shared_data(tmp_path, capsys):
 
     frames = require(DATA / "scalable-ccd" / "cloth-funnel" / "frames")
     assert main(["record", str(frames), "--ccd", "--out", str(tmp_path / "funnel.rrd")]) == 0
-    assert "1 CCD steps (exact), 18484 triangles" in capsys.readouterr().out
+    assert "1 CCD step (exact), 18484 triangles" in capsys.readouterr().out
 
 
 def test_bench_from_json_names_a_bad_file(tmp_path, capsys):
@@ -187,7 +217,7 @@ def test_help_states_defaults(capsys):
     for command, wanted in (("record", ["(default: the scene fold)", "culling method (default nc"]),
                             ("view", ["(default: the scene fold)", "(default 8080", "(default nc)"]),
                             ("demo", ["culling method (default nc)"]),
-                            ("explain", ["the frame to query", "the BVH node id", "culling method (default nc)"]),
+                            ("explain", ["the frame to query", "a BVH node id", "culling method (default nc)", "(default exact)"]),
                             ("bench", ["(default 64000)"])):
         with pytest.raises(SystemExit):
             main([command, "--help"])

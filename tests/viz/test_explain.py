@@ -3,6 +3,7 @@ collider, an untraced result, a bad node id, a collider without a BVH yet."""
 
 import dataclasses
 
+import numpy as np
 import pytest
 
 import conecull
@@ -82,3 +83,111 @@ def test_before_any_query(sheets):
     fresh = conecull.SelfCollider(col.mesh)
     with pytest.raises(ValueError, match=r"col: has no BVH yet .*run col\.dcd\(V\) first"):
         explain_node(fresh, res, 0)
+
+
+# --- triage: which triangles collide, and why no node holding them was culled -----------------
+
+from conecull.datasets.inputs import load_sequence  # noqa: E402
+from conecull.viz.explain import (collision_sentences, explain_face, explain_pair, node_verdict,  # noqa: E402
+                                  path_to_root, smallest_common_nodes)
+
+
+def _holds(bvh, node, faces):
+    inside = set(bvh["order"][bvh["begin"][node] : bvh["end"][node]].tolist())
+    return all(f in inside for f in faces)
+
+
+def test_smallest_common_node_against_a_walk(sheets):
+    """The node holds both faces and neither of its children does (checked by listing the
+    nodes' triangles), for random pairs and for a face with itself (its leaf)."""
+    col, _, _ = sheets[1]
+    bvh = col.bvh_arrays()
+    rng = np.random.default_rng(1)
+    a, b = rng.integers(0, col.mesh.n_faces, 300), rng.integers(0, col.mesh.n_faces, 300)
+    a[:20] = b[:20]
+    for i, j, n in zip(a, b, smallest_common_nodes(bvh, a, b)):
+        assert _holds(bvh, n, (i, j))
+        if bvh["right"][n] >= 0:
+            assert not _holds(bvh, bvh["left"][n], (i, j)) and not _holds(bvh, bvh["right"][n], (i, j))
+        elif i == j:
+            assert bvh["right"][n] < 0
+
+
+def _scenes():
+    F, P = load_sequence("fold")
+    G, Q = load_sequence("crumple")
+    R, S = load_sequence("roll")
+    return [("fold", F, P, (28, 29)), ("crumple", G, Q, (24, 29)), ("roll", R, S, (15, 29))]
+
+
+@pytest.mark.parametrize("method", ["nc", "nc+front", "sct", "cbc", "aabb"])
+def test_every_dcd_collision_is_explained_by_nodes_not_culled(method):
+    """Each colliding pair's sentence names the smallest node holding both triangles, and no node
+    on its path to the root was culled by the trace's own verdicts (culling one would have lost
+    the pair): a check of the trace against the result, pair by pair."""
+    for name, F, P, ks in _scenes():
+        col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+        col.dcd(P[0])
+        for k in ks:
+            res = col.dcd(P[k], trace=True)
+            assert len(res.pairs), (name, k)
+            bvh = col.bvh_arrays()
+            nodes = smallest_common_nodes(bvh, res.pairs[:, 0], res.pairs[:, 1])
+            for node in np.unique(nodes):
+                assert not any(node_verdict(res, x)[0] for x in path_to_root(bvh, int(node))), (name, k, node)
+            sentences = collision_sentences(col, res)
+            assert len(sentences) == len(res.pairs)
+            for (i, j), node, s in zip(res.pairs, nodes, sentences):
+                assert s.startswith(f"triangles {i} and {j} intersect: the smallest node holding both, node {node} ")
+                assert "was not culled" in s and "report this as a bug" not in s
+
+
+@pytest.mark.parametrize("method", ["nc", "cbc"])
+def test_every_ccd_contact_is_explained_by_nodes_not_culled(method):
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    col.dcd(P[0])
+    res = col.ccd(P[27], P[28], trace=True, toi=True)
+    assert len(res.vf) and len(res.ee)
+    sentences = collision_sentences(col, res)
+    assert len(sentences) == len(res.vf) + len(res.ee)
+    for (v, f), s in zip(res.vf, sentences):
+        assert s.startswith(f"vertex {v} touches triangle {f} during the step (not before t = ")
+    for (a, b), s in zip(res.ee, sentences[len(res.vf):]):
+        assert s.startswith(f"edge {a} (") and f"touches edge {b} (" in s
+    assert all("was not culled" in s and "report this as a bug" not in s for s in sentences)
+    assert len(collision_sentences(col, res, 5)) == 5
+
+
+def test_explain_pair_and_face():
+    """A colliding pair is said to intersect and where it was met; a pair inside a culled node is
+    said never to have been tested, naming that node; a face lists its collisions, or says it has
+    none and names the smallest judged node holding it."""
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    col.dcd(P[0])
+    res = col.dcd(P[28], trace=True)
+    i, j = (int(x) for x in res.pairs[0])
+    text = explain_pair(col, res, j, i)
+    assert text.startswith(f"triangles {j} and {i} intersect: the smallest node holding both") and "Collide(node" in text
+    bvh = col.bvh_arrays()
+    culled = int(res.trace.culled_nodes()[0])
+    a, b = (int(x) for x in bvh["order"][[bvh["begin"][culled], bvh["end"][culled] - 1]])
+    text = explain_pair(col, res, a, b)
+    assert text.startswith(f"triangles {a} and {b} do not intersect: they were never tested: node {culled} ")
+    mine = int(((res.pairs[:, 0] == i) | (res.pairs[:, 1] == i)).sum())
+    assert explain_face(col, res, i).startswith(f"triangle {i} takes part in {mine} collision")
+    assert explain_face(col, res, a).startswith(f"triangle {a} collides with nothing in this query; the smallest "
+                                                f"node judged that holds it")
+    assert explain_pair(col, res, a, a).endswith("a triangle is never tested against itself.")
+    for bad, match in ((col.mesh.n_faces, r"face: 2048 is out of range: the mesh has triangles 0\.\.2047"),
+                       (1.5, r"face: expected an integer triangle id in 0\.\.2047, got 1\.5")):
+        with pytest.raises(ValueError, match=match):
+            explain_face(col, res, bad)
+    with pytest.raises(ValueError, match=r"^j: -1 is out of range"):
+        explain_pair(col, res, 0, -1)
+    ccd = col.ccd(P[27], P[28], trace=True, toi=True)
+    v, f = (int(x) for x in ccd.vf[0])
+    g = int(col.mesh.vertex_faces[1][col.mesh.vertex_faces[0][v]])
+    assert explain_pair(col, ccd, g, f).startswith(f"triangles {g} and {f} touch during the step (")
+    assert f"vertex {v} touches triangle {f}" in explain_face(col, ccd, f)

@@ -227,3 +227,102 @@ def test_a_failed_last_write_is_an_error_naming_the_file(tmp_path, monkeypatch):
     with pytest.raises(OSError, match=r"cannot write the recording '.*run\.rrd' \(Failed to write: No space left"):
         record(str(out), F, P)
     assert not out.exists()
+
+
+def test_every_contour_reason_has_a_colour():
+    """Both sinks colour a failing contour by its reason: one without a colour crashed `record`
+    and `view` with the sct and cbc baselines (KeyError 6 and 7) on the crumple scene."""
+    from conecull.trace import REASONS
+    from conecull.viz.layers import REASON_COLORS
+
+    assert set(REASONS) <= set(REASON_COLORS)
+
+
+@pytest.mark.parametrize("method,frames,code", [("sct", (0, 2), 6), ("cbc", (26, 27), 7)])
+def test_baselines_own_failures_are_recorded(tmp_path, method, frames, code):
+    """crumple's frames where the sct line search finds no kernel point (reason 6) and where cbc
+    cannot prove two contour edges apart (reason 7): recorded, each strip labelled with it."""
+    from conecull.trace import reason_name
+
+    F, P = load_sequence("crumple")
+    path = str(tmp_path / f"{method}.rrd")
+    record(path, F, P, method=method, frame_range=range(*frames))
+    labels = rows_by_frame(path, "/scene/contours/failed", "LineStrips3D:labels")
+    assert any(reason_name(code) in (v or []) for v in labels.values()), labels
+
+
+def _log_rows(path):
+    """{frame: [(level, text), ...]} of /log, in logging order (row ids, TUIDs, sort in it; the
+    rows of one frame may span chunks)."""
+    rows = []
+    for chunk in RrdReader(path).stream().collect().stream():
+        rb = chunk.to_record_batch()
+        if (rb.schema.metadata or {}).get(b"rerun:entity_path", b"").decode() != "/log":
+            continue
+        names = rb.schema.names
+        rows += zip(rb.column(names.index("rerun.controls.RowId")).to_pylist(), rb.column(names.index("frame")).to_pylist(),
+                    rb.column(names.index("TextLog:level")).to_pylist(), rb.column(names.index("TextLog:text")).to_pylist())
+    out = {}
+    for _, f, level, text in sorted(rows, key=lambda r: r[0]):
+        out.setdefault(f, []).append((level[0] if isinstance(level, list) else level,
+                                      text[0] if isinstance(text, list) else text))
+    return out
+
+
+def test_collisions_are_named_and_explained(recording):
+    """Which triangles collide is in the recording, by id: a labelled point per colliding pair,
+    and the log's first lines (warnings) say, per pair, why the smallest node holding both was not
+    culled, as explain.collision_sentences does; the failing nodes follow."""
+    from conecull.viz.explain import collision_sentences
+
+    path, F, frames, stats = recording
+    labels = rows_by_frame(path, "/scene/collisions", "Points3D:labels")
+    log = _log_rows(path)
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]))
+    col.dcd(frames[0])
+    seen = 0
+    for k in range(len(frames)):
+        res = col.dcd(frames[k], trace=True)
+        assert (labels.get(k) or []) == [f"{i} x {j}" for i, j in res.pairs.tolist()], k
+        want = collision_sentences(col, res, 100)
+        lines = log.get(k, [])
+        assert [t for _, t in lines[: len(want)]] == want, k
+        assert all(level == "WARN" for level, _ in lines[: len(want)])
+        assert all(level == "INFO" for level, _ in lines[len(want) + (len(res.pairs) > 100):])
+        seen += len(want)
+    assert seen > 100
+
+
+def test_ccd_contacts_are_labelled_with_ids(tmp_path):
+    F, frames = load_sequence("fold")
+    path = str(tmp_path / "ccd.rrd")
+    record(path, F, frames, frame_range=[27], ccd=True)
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    col.dcd(frames[0])
+    res = col.ccd(frames[27], frames[28], toi=True)
+    vf = rows_by_frame(path, "/scene/contacts/vf", "Points3D:labels")[27]
+    ee = rows_by_frame(path, "/scene/contacts/ee", "LineStrips3D:labels")[27]
+    assert [s.rsplit(" ", 1)[0] for s in vf] == [f"v{v} f{f}" for v, f in res.vf.tolist()]
+    assert [s.rsplit(" ", 1)[0] for s in ee] == [f"e{a} e{b}" for a, b in res.ee.tolist()]
+    assert vf[0].endswith(f"t>={res.toi[0]:.3f}")
+
+
+def test_only_the_methods_own_verdicts_are_plotted(tmp_path):
+    """The baselines' own contour verdicts (sct's, cbc's) are not plotted, always 0, for the others."""
+    F, frames = load_sequence("fold")
+    got = {}
+    for method in ("nc", "cbc"):
+        path = str(tmp_path / f"{method}.rrd")
+        record(path, F, frames, method=method, frame_range=[0])
+        got[method] = {(chunk.to_record_batch().schema.metadata or {}).get(b"rerun:entity_path", b"").decode()
+                       for chunk in RrdReader(path).stream().collect().stream()}
+    assert "/stats/verdict/contour_edges_may_overlap" in got["cbc"] - got["nc"]
+    assert not any(e.endswith("no_kernel_on_search_line") for e in got["nc"] | got["cbc"])
+    assert "/stats/verdict/contour_not_star_shaped" in got["nc"]
+
+
+def test_a_bvh_depth_deeper_than_the_bvh_is_refused(tmp_path):
+    F, frames = load_sequence("fold")
+    with pytest.raises(ValueError, match=r"bvh_depth: 30 is deeper than this mesh's BVH, whose nodes are at depths 0\.\.\d+"):
+        record(str(tmp_path / "x.rrd"), F, frames, bvh_depth=30)
+    assert not os.path.exists(tmp_path / "x.rrd")

@@ -97,3 +97,53 @@ def test_viewer_compares_methods_at_the_frame():
         assert len({r[1] for r in rows}) > 1  # the methods really differ
     finally:
         app.close()
+
+
+def test_viewer_says_what_a_clicked_colliding_triangle_collides_with():
+    """Clicking a colliding triangle names its partners and why no node holding both was culled;
+    the node at the chosen depth alone (here culled: the pair lies across two nodes) follows."""
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("fold")
+    app = ViewerApp(F, frames, port=free_port())
+    try:
+        app.frame.value = 28
+        i, j = (int(x) for x in app.res.pairs[0])
+        app.select_face(i)
+        text = app.panel.content
+        assert f"triangle {i} takes part in" in text and f"triangles {i} and {j} intersect" in text
+        assert "was not culled" in text and "verdict:" in text
+        app.select_face(int(np.setdiff1d(np.arange(len(F)), app.res.pairs)[0]))
+        assert "takes part in" not in app.panel.content
+    finally:
+        app.close()
+
+
+def test_viewer_shows_an_error_and_keeps_playing(monkeypatch):
+    """An error while drawing a frame (a bug) is shown in the stats panel; the controls and the
+    player go on (it used to end play for good). The baselines' own contour verdicts (sct's on
+    crumple from its first frame) are drawn: they once had no colour and raised."""
+    import time
+
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz import viser_app
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("crumple")
+    app = ViewerApp(F, frames, port=free_port(), method="sct")
+    try:
+        assert 6 in app.res.trace.contour["reason"]  # sct's no_kernel_on_search_line, drawn
+        real = viser_app.L.compute
+        monkeypatch.setattr(viser_app.L, "compute", lambda *a: (_ for _ in ()).throw(RuntimeError("boom")))
+        app.frame.value = 3
+        assert "error while drawing this frame** (RuntimeError: boom)" in app.stats_md.content
+        monkeypatch.setattr(viser_app.L, "compute", real)
+        app.play.value = True
+        start = int(app.frame.value)
+        deadline = time.time() + 10
+        while (int(app.frame.value) == start or "error" in app.stats_md.content) and time.time() < deadline:
+            time.sleep(0.05)  # the value changes before its callback has drawn the frame
+        assert int(app.frame.value) != start and "error" not in app.stats_md.content
+    finally:
+        app.close()

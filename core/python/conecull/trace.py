@@ -89,7 +89,13 @@ REASONS: dict[int, tuple[str, str]] = {
     16 + 5: ("pinched_boundary", "the node's boundary passes through a vertex twice: not a simple cycle"),
     16 + 6: ("multiple_loops", "the node's patch has holes: more than one boundary loop"),
 }
-CONE_TOO_WIDE = ("cone_too_wide", "its normal cone is {angle:.1f} degrees wide (apex angle >= 180): normals point to both sides")
+# A failed cone test has no width to report: a cone that cannot be bounded below 180 degrees is
+# kept as the full cone (NormalCone::full), whatever its normals' real spread; merged bottom-up
+# from the children's cones (Sec. 3.6), the bound can be looser than the normals (a node whose
+# normals span 156 degrees can fail), so the sentence says "could not be bounded", not "is wide".
+CONE_TOO_WIDE = ("cone_too_wide", "its normal cone could not be bounded below 180 degrees (Alg. 2 line 5: the "
+                                  "cone merged from its children's may be wider than its normals' real spread), so "
+                                  "its normals may point to both sides and the contour test is not tried")
 
 
 def _reason(code) -> tuple:
