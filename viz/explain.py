@@ -139,10 +139,11 @@ def face_positions(bvh: dict) -> np.ndarray:
     return pos
 
 
-def smallest_common_nodes(bvh: dict, a, b) -> np.ndarray:
-    """For each k, the smallest BVH node whose triangles include faces a[k] and b[k] (the node
-    itself when a[k] == b[k] is in a leaf), descending from the root level by level."""
-    pos = face_positions(bvh)
+def smallest_common_nodes(bvh: dict, a, b, pos: np.ndarray | None = None) -> np.ndarray:
+    """For each k, the smallest BVH node whose triangles include faces a[k] and b[k] (the leaf
+    holding a[k] when a[k] == b[k]), descending from the root level by level. pos: face_positions
+    (bvh), if already at hand."""
+    pos = face_positions(bvh) if pos is None else pos
     pa, pb = pos[np.asarray(a, np.int64)], pos[np.asarray(b, np.int64)]
     node = np.zeros(len(pa), np.int64)
     left, right, begin, end = bvh["left"], bvh["right"], bvh["begin"], bvh["end"]
@@ -161,117 +162,145 @@ def smallest_common_nodes(bvh: dict, a, b) -> np.ndarray:
     return node
 
 
+class Verdicts:
+    """verdicts(node) -> (culled, why) for the nodes of one traced query: True / False if the
+    normal-cone test judged the node, None if it never did (no cone test there). The events are
+    indexed once, not searched per node (a recording explains up to 100 collisions per frame)."""
+
+    def __init__(self, res):
+        tr = res.trace
+        self.res = res
+        nodes, first = np.unique(tr.contour["node"], return_index=True)
+        self.contour_at = dict(zip(nodes.tolist(), first.tolist()))
+        nodes, first = np.unique(tr.cone["node"], return_index=True)
+        self.cone_at = dict(zip(nodes.tolist(), first.tolist()))
+
+    def __call__(self, node: int) -> tuple[bool | None, str]:
+        tr = self.res.trace
+        i = self.contour_at.get(int(node))
+        if i is not None:
+            code = int(tr.contour["reason"][i])
+            star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
+            why = explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], bool(tr.contour["simple"][i]),
+                          star_tried)
+            return code == 0, why if code == 0 else f"{REASONS[code][0]}: {why}"
+        i = self.cone_at.get(int(node))
+        if i is not None and not tr.cone["bounded"][i]:
+            return False, f"cone_too_wide: {CONE_TOO_WIDE[1]}"
+        method = self.res.stats.get("method")
+        if method in ("aabb", "aabb+front"):
+            return None, f"method '{method}' uses no normal cones: every node's pairs of overlapping boxes are tested"
+        return None, "not judged by normal cones in this query"
+
+
 def node_verdict(res, node: int) -> tuple[bool | None, str]:
-    """(culled, why) for one node of a traced query: True / False if the normal-cone test judged
-    it, None if it never did (no cone test there)."""
-    tr = res.trace
-    contour_i = np.flatnonzero(tr.contour["node"] == node)
-    if len(contour_i):
-        i = contour_i[0]
-        code = int(tr.contour["reason"][i])
-        star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
-        why = explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], bool(tr.contour["simple"][i]), star_tried)
-        return code == 0, why if code == 0 else f"{REASONS[code][0]}: {why}"
-    cone_i = np.flatnonzero(tr.cone["node"] == node)
-    if len(cone_i) and not tr.cone["bounded"][cone_i[0]]:
-        return False, f"cone_too_wide: {CONE_TOO_WIDE[1]}"
-    method = res.stats.get("method")
-    if method in ("aabb", "aabb+front"):
-        return None, f"method '{method}' uses no normal cones: every node's pairs of overlapping boxes are tested"
-    return None, "not judged by normal cones in this query"
+    """(culled, why) for one node of a traced query (Verdicts, for a single node)."""
+    return Verdicts(res)(node)
 
 
-def _node_words(bvh: dict, node: int) -> str:
-    nt = int(bvh["end"][node] - bvh["begin"][node])
-    return f"node {node} (depth {int(bvh['depth'][node])}, {nt} triangle{'s' if nt != 1 else ''})"
+class _Triage:
+    """What the sentences below look up, once per query: the BVH, its parents, the verdicts."""
 
+    def __init__(self, col, res):
+        self.col, self.res = col, res
+        self.bvh = col.bvh_arrays()
+        self.parent = parents(self.bvh)
+        self.pos = face_positions(self.bvh)
+        self.verdict = Verdicts(res)
 
-def why_found(col, res, node: int, what: str, collides: bool = True) -> str:
-    """The sentence on the smallest node `node` holding two triangles (`what` says which and
-    whether they collide): if a node on its path to the root was culled, they were never tested
-    (for a collision, a bug); else each node's verdict, and where the pair was met: Collide(L, R)
-    between node's two children, or the leaf itself."""
-    bvh = col.bvh_arrays()
-    path = path_to_root(bvh, node)[::-1]  # root first
-    verdicts = {x: node_verdict(res, x) for x in path}
-    culled = [x for x in path if verdicts[x][0]]
-    if culled:
-        x = culled[0]
-        if collides:
-            return (f"{what}, yet {_node_words(bvh, x)}, which holds both, was culled ({verdicts[x][1]}); that "
-                    "contradicts the collision: please report this as a bug")
-        return f"{what}: they were never tested: {_node_words(bvh, x)}, which holds both, was culled: {verdicts[x][1]}."
-    out = f"{what}: the smallest node holding both, {_node_words(bvh, node)}, was not culled: {verdicts[node][1]}"
-    above = path[:-1]
-    if above and verdicts[node][0] is not None:
-        kinds = sorted({verdicts[a][1].split(":")[0] for a in above})
-        out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
-                else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
-    if bvh["right"][node] < 0:
-        met = "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
-    else:
-        met = (f"The pair is met by Collide(node {int(bvh['left'][node])}, node {int(bvh['right'][node])}), the test "
-               "of its two children against each other (Alg. 2)")
-    if not collides:
-        met += ": tested there if their boxes overlap, and the elementary test found no collision"
-    return f"{out}. {met}."
+    def smallest(self, a, b) -> np.ndarray:
+        return smallest_common_nodes(self.bvh, a, b, self.pos)
 
+    def path(self, node: int) -> list[int]:
+        """The root, ..., node."""
+        out = [int(node)]
+        while self.parent[out[-1]] >= 0:
+            out.append(int(self.parent[out[-1]]))
+        return out[::-1]
 
-def _pair_sentences(col, res, pairs) -> list[str]:
-    bvh = col.bvh_arrays()
-    nodes = smallest_common_nodes(bvh, pairs[:, 0], pairs[:, 1])
-    return [why_found(col, res, int(n), f"triangles {int(i)} and {int(j)} intersect") for (i, j), n in zip(pairs, nodes)]
+    def words(self, node: int) -> str:
+        bvh = self.bvh
+        nt = int(bvh["end"][node] - bvh["begin"][node])
+        return f"node {node} (depth {int(bvh['depth'][node])}, {nt} triangle{'s' if nt != 1 else ''})"
+
+    def why_found(self, node: int, what: str, collides: bool = True) -> str:
+        """The sentence on the smallest node `node` holding two triangles (`what` says which and
+        whether they collide): if a node on its path to the root was culled, they were never
+        tested (for a collision, a bug); else each node's verdict, and where the pair was met:
+        Collide(L, R) between node's two children, or the leaf itself."""
+        bvh, path = self.bvh, self.path(node)
+        verdicts = {x: self.verdict(x) for x in path}
+        culled = [x for x in path if verdicts[x][0]]
+        if culled:
+            x = culled[0]
+            if collides:
+                return (f"{what}, yet {self.words(x)}, which holds both, was culled ({verdicts[x][1]}); that "
+                        "contradicts the collision: please report this as a bug")
+            return f"{what}: they were never tested: {self.words(x)}, which holds both, was culled: {verdicts[x][1]}."
+        out = f"{what}: the smallest node holding both, {self.words(node)}, was not culled: {verdicts[node][1]}"
+        above = path[:-1]
+        if above and verdicts[node][0] is not None:
+            kinds = sorted({verdicts[a][1].split(":")[0] for a in above})
+            out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
+                    else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
+        if bvh["right"][node] < 0:
+            met = "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
+        else:
+            met = (f"The pair is met by Collide(node {int(bvh['left'][node])}, node {int(bvh['right'][node])}), the "
+                   "test of its two children against each other (Alg. 2)")
+        if not collides:
+            met += ": tested there if their boxes overlap, and the elementary test found no collision"
+        return f"{out}. {met}."
+
+    def pairs(self, pairs) -> list[str]:
+        nodes = self.smallest(pairs[:, 0], pairs[:, 1])
+        return [self.why_found(int(n), f"triangles {int(i)} and {int(j)} intersect") for (i, j), n in zip(pairs, nodes)]
+
+    def vf(self, rows, toi) -> list[str]:
+        """rows: (vertex, face) contacts; toi: their times or None. The smallest node holding the
+        face and one of the triangles around the vertex: any such node holds the contact."""
+        voff, vids = self.col.mesh.vertex_faces
+        out = []
+        for k, (v, f) in enumerate(rows):
+            around = vids[voff[v] : voff[v + 1]]
+            nodes = self.smallest(around, np.full(len(around), f))
+            g = int(np.argmax(self.bvh["depth"][nodes]))
+            out.append(self.why_found(int(nodes[g]), f"vertex {int(v)} touches triangle {int(f)} during the step"
+                                      f"{_when(toi, k)}, next to triangle {int(around[g])}"))
+        return out
+
+    def ee(self, rows, toi) -> list[str]:
+        """rows: (edge, edge) contacts; the smallest node holding a triangle around each edge."""
+        eoff, eids = self.col.mesh.edge_faces
+        E = self.col.mesh.edges
+        out = []
+        for k, (a, b) in enumerate(rows):
+            fa, fb = eids[eoff[a] : eoff[a + 1]], eids[eoff[b] : eoff[b + 1]]
+            A, B = np.repeat(fa, len(fb)), np.tile(fb, len(fa))
+            nodes = self.smallest(A, B)
+            g = int(np.argmax(self.bvh["depth"][nodes]))
+            out.append(self.why_found(int(nodes[g]), f"edge {int(a)} ({int(E[a][0])}-{int(E[a][1])}) touches edge "
+                                      f"{int(b)} ({int(E[b][0])}-{int(E[b][1])}) during the step{_when(toi, k)}, "
+                                      f"triangles {int(A[g])} and {int(B[g])} around them"))
+        return out
 
 
 def _when(toi, k) -> str:
     return "" if toi is None else f" (not before t = {float(toi[k]):.4g})"
 
 
-def _vf_sentences(col, res, rows, toi) -> list[str]:
-    """rows: (vertex, face) contacts; toi: their times or None. The smallest node holding the
-    face and one of the triangles around the vertex: any such node holds the contact."""
-    bvh = col.bvh_arrays()
-    voff, vids = col.mesh.vertex_faces
-    out = []
-    for k, (v, f) in enumerate(rows):
-        around = vids[voff[v] : voff[v + 1]]
-        nodes = smallest_common_nodes(bvh, around, np.full(len(around), f))
-        g = int(np.argmax(bvh["depth"][nodes]))
-        out.append(why_found(col, res, int(nodes[g]), f"vertex {int(v)} touches triangle {int(f)} during the step"
-                             f"{_when(toi, k)}, next to triangle {int(around[g])}"))
-    return out
-
-
-def _ee_sentences(col, res, rows, toi) -> list[str]:
-    """rows: (edge, edge) contacts; the smallest node holding a triangle around each edge."""
-    bvh = col.bvh_arrays()
-    eoff, eids = col.mesh.edge_faces
-    E = col.mesh.edges
-    out = []
-    for k, (a, b) in enumerate(rows):
-        fa, fb = eids[eoff[a] : eoff[a + 1]], eids[eoff[b] : eoff[b + 1]]
-        A, B = np.repeat(fa, len(fb)), np.tile(fb, len(fa))
-        nodes = smallest_common_nodes(bvh, A, B)
-        g = int(np.argmax(bvh["depth"][nodes]))
-        out.append(why_found(col, res, int(nodes[g]), f"edge {int(a)} ({int(E[a][0])}-{int(E[a][1])}) touches edge "
-                             f"{int(b)} ({int(E[b][0])}-{int(E[b][1])}) during the step{_when(toi, k)}, triangles "
-                             f"{int(A[g])} and {int(B[g])} around them"))
-    return out
-
-
 def collision_sentences(col, res, limit: int | None = None) -> list[str]:
     """One sentence per collision of a traced query of col (DCD: per colliding pair; CCD: per
     vertex-face, then edge-edge contact), the first `limit` of them: what collides, and why the
-    smallest node holding it was not culled (why_found)."""
+    smallest node holding it was not culled (_Triage.why_found)."""
     check_result(col, res)
+    t = _Triage(col, res)
     if not hasattr(res, "vf"):
-        return _pair_sentences(col, res, res.pairs[:limit])
+        return t.pairs(res.pairs[:limit])
     n_vf = len(res.vf)
-    toi_vf = None if res.toi is None else res.toi[:n_vf]
-    toi_ee = None if res.toi is None else res.toi[n_vf:]
-    out = _vf_sentences(col, res, res.vf[:limit], toi_vf)
+    out = t.vf(res.vf[:limit], None if res.toi is None else res.toi[:n_vf])
     left = None if limit is None else max(0, limit - len(out))
-    return out + _ee_sentences(col, res, res.ee[:left], toi_ee)
+    return out + t.ee(res.ee[:left], None if res.toi is None else res.toi[n_vf:])
 
 
 def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
@@ -286,7 +315,8 @@ def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
               if (f == j and v in F[i]) or (f == i and v in F[j])]
         ee = [f"edges {a} and {b}" for a, b in res.ee.tolist()
               if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i])]
-        what = (f"triangles {i} and {j} touch during the step ({'; '.join(vf + ee)})" if vf + ee
+        hit = bool(vf + ee)
+        what = (f"triangles {i} and {j} touch during the step ({'; '.join(vf + ee)})" if hit
                 else f"triangles {i} and {j} do not touch during the step")
     else:
         lo, hi = min(i, j), max(i, j)
@@ -294,8 +324,8 @@ def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
         what = f"triangles {i} and {j} {'intersect' if hit else 'do not intersect'}"
     if i == j:
         return f"{what}: a triangle is never tested against itself."
-    node = int(smallest_common_nodes(col.bvh_arrays(), [i], [j])[0])
-    return why_found(col, res, node, what, collides=not what.endswith(("not intersect", "not touch during the step")))
+    t = _Triage(col, res)
+    return t.why_found(int(t.smallest([i], [j])[0]), what, collides=hit)
 
 
 def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> str:
@@ -304,28 +334,27 @@ def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> 
     that holds it."""
     check_result(col, res)
     face = check_face(face, col.mesh.n_faces, name)
+    t = _Triage(col, res)
     if hasattr(res, "vf"):
         F, FE = col.mesh.faces, col.mesh.face_edges
         vf = np.array([f == face or v in F[face] for v, f in res.vf.tolist()], bool).reshape(-1)
         ee = np.array([a in FE[face] or b in FE[face] for a, b in res.ee.tolist()], bool).reshape(-1)
         n = int(vf.sum() + ee.sum())
         toi = res.toi
-        sentences = _vf_sentences(col, res, res.vf[vf][:limit], None if toi is None else toi[: len(vf)][vf])
-        sentences += _ee_sentences(col, res, res.ee[ee][: limit - len(sentences)],
-                                   None if toi is None else toi[len(vf):][ee])
+        sentences = t.vf(res.vf[vf][:limit], None if toi is None else toi[: len(vf)][vf])
+        sentences += t.ee(res.ee[ee][: limit - len(sentences)], None if toi is None else toi[len(vf):][ee])
     else:
         mine = res.pairs[(res.pairs[:, 0] == face) | (res.pairs[:, 1] == face)] if len(res.pairs) else res.pairs
         n = len(mine)
-        sentences = _pair_sentences(col, res, mine[:limit])
+        sentences = t.pairs(mine[:limit])
     if n:
         more = f"\n(and {n - len(sentences)} more)" if n > len(sentences) else ""
         return f"triangle {face} takes part in {n} collision{'s' if n != 1 else ''}:\n" + "\n".join(sentences) + more
-    bvh = col.bvh_arrays()
-    leaf = int(smallest_common_nodes(bvh, [face], [face])[0])
+    leaf = int(t.smallest([face], [face])[0])
     head = f"triangle {face} collides with nothing in this query"
-    judged = [x for x in path_to_root(bvh, leaf) if node_verdict(res, x)[0] is not None]
+    judged = [x for x in t.path(leaf)[::-1] if t.verdict(x)[0] is not None]
     if not judged:
         return head + "."
-    culled, why = node_verdict(res, judged[0])
-    return (head + f"; the smallest node judged that holds it, {_node_words(bvh, judged[0])}, was "
+    culled, why = t.verdict(judged[0])
+    return (head + f"; the smallest node judged that holds it, {t.words(judged[0])}, was "
             f"{'culled' if culled else 'not culled'}: {why}.")

@@ -138,7 +138,7 @@ if __name__ == "__main__":
     out = parser.parse_args().out
     os.makedirs(out, exist_ok=True)
     viser_screenshot(os.path.join(out, "viser.png"))
-    rerun_screenshot(os.path.join(out, "rerun.png"))
+    rerun_screenshot(os.path.join(out, "rerun.png"), frame=28)  # the fold through itself: collisions, failing cones
     # a paper-sized simulated scene in the debugger (generates `funnel` first if not cached: minutes)
     rerun_screenshot(os.path.join(out, "rerun-funnel.png"), scene="funnel", frame=40)
     rerun_screenshot(os.path.join(out, "rerun-front.png"), scene="fold", frame=26, method="nc+front", front_view=True,
