@@ -243,11 +243,14 @@ class _Triage:
             kinds = sorted({verdicts[a][1].split(":")[0] for a in above})
             out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
                     else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
-        if bvh["right"][node] < 0:
+        l, r = int(bvh["left"][node]), int(bvh["right"][node])
+        if r < 0:
             met = "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
+        elif str(self.res.stats.get("method", "")).endswith("+front"):
+            met = (f"The pair is met by FrontTracking(Front_{node}), through the BVTT front between its children, "
+                   f"nodes {l} and {r} (Alg. 4)")
         else:
-            met = (f"The pair is met by Collide(node {int(bvh['left'][node])}, node {int(bvh['right'][node])}), the "
-                   "test of its two children against each other (Alg. 2)")
+            met = f"The pair is met by Collide(node {l}, node {r}), the test of its two children against each other (Alg. 2)"
         if not collides:
             met += ": tested there if their boxes overlap, and the elementary test found no collision"
         return f"{out}. {met}."

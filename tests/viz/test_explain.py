@@ -140,6 +140,9 @@ def test_every_dcd_collision_is_explained_by_nodes_not_culled(method):
             for (i, j), node, s in zip(res.pairs, nodes, sentences):
                 assert s.startswith(f"triangles {i} and {j} intersect: the smallest node holding both, node {node} ")
                 assert "was not culled" in s and "report this as a bug" not in s
+                if bvh["right"][node] >= 0:  # met between the node's children: by its front with a front method
+                    front = method.endswith("+front")
+                    assert (f"FrontTracking(Front_{node})" in s) == front and ("Collide(node" in s) == (not front)
 
 
 @pytest.mark.parametrize("method", ["nc", "cbc"])
