@@ -183,6 +183,7 @@ def _explain_command(args, what: str) -> str:
 def _check(args) -> int:
     """`conecull check`: the first-hit queries (stop_at_first) per frame and, with --ccd, per step."""
     import conecull
+    from conecull.viz.explain import time_bound
     from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
 
     if args.ccd and args.method not in conecull.CCD_METHODS:
@@ -214,11 +215,11 @@ def _check(args) -> int:
                 continue
             bad += 1
             face = int(step.vf[0][1]) if len(step.vf) else int(mesh.edge_faces[1][mesh.edge_faces[0][step.ee[0][0]]])
-            print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, not before t = {step.toi[0]:.6g}; "
+            print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, {time_bound(step.toi[0], 6)}; "
                   "why: " + _explain_command(args, f"--frame {k} --ccd --face {face}"
                                              + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else "")))
     kinds = "frames and steps" if args.ccd else "frames"
-    print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide" if bad else
+    print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide{'s' if bad == 1 else ''}" if bad else
           f"{len(F)} triangles, method {args.method}: no collision in the {kinds} checked")
     return 1 if bad else 0
 
@@ -354,6 +355,8 @@ def _run(args) -> int:
         from conecull.viz.explain import explain_face, explain_node, explain_pair
 
         check_method(args.method, args.ccd, "--method")
+        if args.arithmetic != "exact" and not args.ccd:
+            raise ValueError("--arithmetic: only with --ccd (a DCD query has no arithmetic mode)")
         F, frames = load_sequence(args.input, args.positions, args.resolution)
         last = len(frames) - 1 - bool(args.ccd)  # a step needs the next frame
         if not 0 <= args.frame <= last:

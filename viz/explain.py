@@ -1,6 +1,10 @@
-"""Plain-language verdict of one BVH node in one traced query (`conecull explain`)."""
+"""Plain-language verdicts in one traced query (`conecull explain`): of one BVH node, and, for
+triage, of a collision, a pair of triangles or a triangle: why the smallest node holding them was
+culled or not, and where the traversal met them."""
 
 from __future__ import annotations
+
+from decimal import ROUND_FLOOR, Decimal
 
 import numpy as np
 
@@ -162,9 +166,15 @@ def smallest_common_nodes(bvh: dict, a, b, pos: np.ndarray | None = None) -> np.
     return node
 
 
+# The cone verdict in a triage sentence: short (it may repeat 100 times in a frame's log); the
+# node sentences (explain --node, the log's failing nodes) keep CONE_TOO_WIDE's whole sentence.
+CONE_SHORT = "its normal cone could not be bounded below 180 degrees"
+
+
 class Verdicts:
-    """verdicts(node) -> (culled, why) for the nodes of one traced query: True / False if the
-    normal-cone test judged the node, None if it never did (no cone test there). The events are
+    """verdicts(node) -> (culled, name, why) for the nodes of one traced query: culled True /
+    False if the normal-cone test judged the node, None if it never did (no cone test there);
+    name: the verdict's name (REASONS, cone_too_wide); why: in words, short. The events are
     indexed once, not searched per node (a recording explains up to 100 collisions per frame)."""
 
     def __init__(self, res):
@@ -175,7 +185,7 @@ class Verdicts:
         nodes, first = np.unique(tr.cone["node"], return_index=True)
         self.cone_at = dict(zip(nodes.tolist(), first.tolist()))
 
-    def __call__(self, node: int) -> tuple[bool | None, str]:
+    def __call__(self, node: int) -> tuple[bool | None, str, str]:
         tr = self.res.trace
         i = self.contour_at.get(int(node))
         if i is not None:
@@ -183,23 +193,37 @@ class Verdicts:
             star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
             why = explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], bool(tr.contour["simple"][i]),
                           star_tried)
-            return code == 0, why if code == 0 else f"{REASONS[code][0]}: {why}"
+            return code == 0, REASONS[code][0], why.removesuffix(", culled")
         i = self.cone_at.get(int(node))
         if i is not None and not tr.cone["bounded"][i]:
-            return False, f"cone_too_wide: {CONE_TOO_WIDE[1]}"
+            return False, "cone_too_wide", CONE_SHORT
         method = self.res.stats.get("method")
         if method in ("aabb", "aabb+front"):
-            return None, f"method '{method}' uses no normal cones: every node's pairs of overlapping boxes are tested"
-        return None, "not judged by normal cones in this query"
+            return None, "no_cones", f"method '{method}' uses no normal cones"
+        return None, "not_judged", "not judged by normal cones in this query"
 
 
 def node_verdict(res, node: int) -> tuple[bool | None, str]:
-    """(culled, why) for one node of a traced query (Verdicts, for a single node)."""
-    return Verdicts(res)(node)
+    """(culled, "name: why") for one node of a traced query (Verdicts, for a single node)."""
+    culled, name, why = Verdicts(res)(node)
+    return culled, f"{name}: {why}"
+
+
+def time_floor(t: float, places: int) -> str:
+    """t rounded down to `places` decimals, exactly (a certified lower bound on a contact time
+    must never be printed rounded up: that would claim no contact before a time when one can
+    still happen)."""
+    return str(Decimal(float(t)).quantize(Decimal(1).scaleb(-places), rounding=ROUND_FLOOR))
+
+
+def time_bound(t: float, places: int = 4) -> str:
+    """A certified lower bound on a contact time, in words (time_floor)."""
+    return "already at t = 0" if t <= 0.0 else f"not before t = {time_floor(t, places)}"
 
 
 class _Triage:
-    """What the sentences below look up, once per query: the BVH, its parents, the verdicts."""
+    """What the sentences below look up, once per query: the BVH, its parents, the verdicts, the
+    front events (front methods) and the tests the query ran."""
 
     def __init__(self, col, res):
         self.col, self.res = col, res
@@ -207,9 +231,14 @@ class _Triage:
         self.parent = parents(self.bvh)
         self.pos = face_positions(self.bvh)
         self.verdict = Verdicts(res)
+        fr = res.trace.front
+        self.front_mode = dict(zip(fr["node"].tolist(), fr["mode"].tolist()))
 
     def smallest(self, a, b) -> np.ndarray:
         return smallest_common_nodes(self.bvh, a, b, self.pos)
+
+    def size(self, node: int) -> int:
+        return int(self.bvh["end"][node] - self.bvh["begin"][node])
 
     def path(self, node: int) -> list[int]:
         """The root, ..., node."""
@@ -219,61 +248,76 @@ class _Triage:
         return out[::-1]
 
     def words(self, node: int) -> str:
-        bvh = self.bvh
-        nt = int(bvh["end"][node] - bvh["begin"][node])
-        return f"node {node} (depth {int(bvh['depth'][node])}, {nt} triangle{'s' if nt != 1 else ''})"
+        nt = self.size(node)
+        return f"node {node} (depth {int(self.bvh['depth'][node])}, {nt} triangle{'s' if nt != 1 else ''})"
 
-    def why_found(self, node: int, what: str, collides: bool = True) -> str:
-        """The sentence on the smallest node `node` holding two triangles (`what` says which and
-        whether they collide): if a node on its path to the root was culled, they were never
-        tested (for a collision, a bug); else each node's verdict, and where the pair was met:
-        Collide(L, R) between node's two children, or the leaf itself."""
-        bvh, path = self.bvh, self.path(node)
-        verdicts = {x: self.verdict(x) for x in path}
-        culled = [x for x in path if verdicts[x][0]]
-        if culled:
-            x = culled[0]
-            if collides:
-                return (f"{what}, yet {self.words(x)}, which holds both, was culled ({verdicts[x][1]}); that "
-                        "contradicts the collision: please report this as a bug")
-            return f"{what}: they were never tested: {self.words(x)}, which holds both, was culled: {verdicts[x][1]}."
-        out = f"{what}: the smallest node holding both, {self.words(node)}, was not culled: {verdicts[node][1]}"
-        above = path[:-1]
-        if above and verdicts[node][0] is not None:
-            kinds = sorted({verdicts[a][1].split(":")[0] for a in above})
-            out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
-                    else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
+    def first_culled(self, nodes) -> int | None:
+        """The highest culled node on the paths to the root of `nodes`, or None."""
+        culled = [x for n in nodes for x in self.path(n) if self.verdict(x)[0]]
+        return min(culled, key=lambda x: int(self.bvh["depth"][x])) if culled else None
+
+    def met(self, node: int) -> str:
+        """Where the traversal meets the pairs of triangles whose smallest common node is `node`."""
+        bvh = self.bvh
         l, r = int(bvh["left"][node]), int(bvh["right"][node])
         if r < 0:
-            met = "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
-        elif str(self.res.stats.get("method", "")).endswith("+front"):
-            met = (f"The pair is met by FrontTracking(Front_{node}), through the BVTT front between its children, "
-                   f"nodes {l} and {r} (Alg. 4)")
-        else:
-            met = f"The pair is met by Collide(node {l}, node {r}), the test of its two children against each other (Alg. 2)"
-        if not collides:
-            met += ": tested there if their boxes overlap, and the elementary test found no collision"
-        return f"{out}. {met}."
+            return "Both are in this leaf, whose triangles are tested pairwise (Alg. 2)"
+        mode = self.front_mode.get(int(node))
+        if mode is None:
+            return f"The pair is met by Collide(node {l}, node {r}), the test of its two children against each other (Alg. 2)"
+        how = {0: "resumed from the front the last query left", 1: "built from the top (no front was kept)",
+               3: "resumed, then dropped for churning (it rests from the next query)"}.get(mode)
+        if how is None:  # resting
+            return (f"The pair is met by Collide(node {l}, node {r}) from the top: Front_{node} rests after churning "
+                    "(Alg. 4)")
+        return f"The pair is met by FrontTracking(Front_{node}) between nodes {l} and {r}, {how} (Alg. 4)"
+
+    def why_found(self, node: int, what: str, holding: str, collides: bool = True, also=()) -> str:
+        """The sentence on `node`, the smallest node holding two triangles (`what`: which, and
+        whether they collide; `holding`: the triangles, in words): if a node on its path (or on
+        those of `also`, other nodes holding the collision) was culled, they were never tested
+        (for a collision, a bug); else its verdict, its ancestors', and where the pair was met."""
+        x = self.first_culled([node, *also])
+        if x is not None:
+            why = self.verdict(x)[2]
+            if collides:
+                return (f"{what}, yet {self.words(x)}, which holds {holding}, was culled ({why}): that contradicts "
+                        "the collision; please report this as a bug.")
+            return f"{what}: they were never tested: {self.words(x)}, which holds them, was culled ({why})."
+        _, name, why = self.verdict(node)
+        out = f"{what}: the smallest node holding {holding}, {self.words(node)}, was not culled ({name}: {why})"
+        above = self.path(node)[:-1]
+        if above and self.verdict(node)[0] is not None:
+            kinds = sorted({self.verdict(a)[1] for a in above})
+            out += (f"; nor was its parent ({kinds[0]})" if len(above) == 1
+                    else f"; nor were its {len(above)} ancestors ({', '.join(kinds)})")
+        return f"{out}. {self.met(node)}."
 
     def pairs(self, pairs) -> list[str]:
         nodes = self.smallest(pairs[:, 0], pairs[:, 1])
-        return [self.why_found(int(n), f"triangles {int(i)} and {int(j)} intersect") for (i, j), n in zip(pairs, nodes)]
+        return [self.why_found(int(n), f"triangles {int(i)} and {int(j)} intersect", "both")
+                for (i, j), n in zip(pairs, nodes)]
 
-    def vf(self, rows, toi) -> list[str]:
-        """rows: (vertex, face) contacts; toi: their times or None. The smallest node holding the
-        face and one of the triangles around the vertex: any such node holds the contact."""
+    def vf(self, rows, toi, focus: int | None = None) -> list[str]:
+        """rows: (vertex, face) contacts; toi: their times or None; focus: a triangle the reader
+        asked about. Any node holding the face and a triangle around the vertex holds the contact;
+        these nodes are all on the face's path, so the deepest is the smallest."""
         voff, vids = self.col.mesh.vertex_faces
         out = []
         for k, (v, f) in enumerate(rows):
             around = vids[voff[v] : voff[v + 1]]
             nodes = self.smallest(around, np.full(len(around), f))
             g = int(np.argmax(self.bvh["depth"][nodes]))
-            out.append(self.why_found(int(nodes[g]), f"vertex {int(v)} touches triangle {int(f)} during the step"
-                                      f"{_when(toi, k)}, next to triangle {int(around[g])}"))
+            corner = (f", a corner of triangle {focus}," if focus is not None and focus != f and focus in around
+                      else "")
+            when = "" if toi is None else f" ({time_bound(toi[k])})"
+            out.append(self.why_found(int(nodes[g]), f"vertex {int(v)}{corner} touches triangle {int(f)} during the "
+                                      f"step{when}", f"triangles {int(around[g])} (around the vertex) and {int(f)}"))
         return out
 
-    def ee(self, rows, toi) -> list[str]:
-        """rows: (edge, edge) contacts; the smallest node holding a triangle around each edge."""
+    def ee(self, rows, toi, focus: int | None = None) -> list[str]:
+        """rows: (edge, edge) contacts. The nodes holding a triangle around each edge are not nested:
+        the one with the fewest triangles is named, and none of them may be culled."""
         eoff, eids = self.col.mesh.edge_faces
         E = self.col.mesh.edges
         out = []
@@ -281,15 +325,32 @@ class _Triage:
             fa, fb = eids[eoff[a] : eoff[a + 1]], eids[eoff[b] : eoff[b + 1]]
             A, B = np.repeat(fa, len(fb)), np.tile(fb, len(fa))
             nodes = self.smallest(A, B)
-            g = int(np.argmax(self.bvh["depth"][nodes]))
-            out.append(self.why_found(int(nodes[g]), f"edge {int(a)} ({int(E[a][0])}-{int(E[a][1])}) touches edge "
-                                      f"{int(b)} ({int(E[b][0])}-{int(E[b][1])}) during the step{_when(toi, k)}, "
-                                      f"triangles {int(A[g])} and {int(B[g])} around them"))
+            sizes = self.bvh["end"][nodes] - self.bvh["begin"][nodes]
+            g = int(np.argmin(sizes))
+            side = lambda e, fs: (f", of triangle {focus}," if focus is not None and focus in fs else "")  # noqa: E731
+            when = "" if toi is None else f" ({time_bound(toi[k])})"
+            out.append(self.why_found(int(nodes[g]), f"edge {int(a)} ({int(E[a][0])}-{int(E[a][1])}){side(a, fa)} "
+                                      f"touches edge {int(b)} ({int(E[b][0])}-{int(E[b][1])}){side(b, fb)} during the "
+                                      f"step{when}", f"triangles {int(A[g])} and {int(B[g])} (one around each edge)",
+                                      also=np.unique(nodes).tolist()))
         return out
 
-
-def _when(toi, k) -> str:
-    return "" if toi is None else f" (not before t = {float(toi[k]):.4g})"
+    def tested_between(self, i: int, j: int) -> str:
+        """Whether the query ran a test between triangles i and j (the trace's elementary, VF and
+        EE events), for a pair that does not collide and was not culled."""
+        tr = self.res.trace
+        if not hasattr(self.res, "vf"):
+            pair = (min(i, j), max(i, j))
+            ran = len(tr.elementary["pair"]) and bool((tr.elementary["pair"] == pair).all(axis=1).any())
+            return ("their triangle-triangle test ran and found no intersection" if ran else
+                    "no triangle-triangle test ran: their boxes, or those of nodes holding them, were apart")
+        F, FE = self.col.mesh.faces, self.col.mesh.face_edges
+        vf = sum(1 for v, f in tr.vf["pair"].tolist() if (f == j and v in F[i]) or (f == i and v in F[j]))
+        ee = sum(1 for a, b in tr.ee["pair"].tolist() if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i]))
+        if vf + ee:
+            return f"{vf} vertex-face and {ee} edge-edge tests between them ran and found no contact"
+        return ("no vertex-face or edge-edge test between them ran: their swept boxes were apart, or the "
+                "non-penetration filter ruled the pairs out")
 
 
 def collision_sentences(col, res, limit: int | None = None) -> list[str]:
@@ -328,7 +389,11 @@ def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
     if i == j:
         return f"{what}: a triangle is never tested against itself."
     t = _Triage(col, res)
-    return t.why_found(int(t.smallest([i], [j])[0]), what, collides=hit)
+    node = int(t.smallest([i], [j])[0])
+    text = t.why_found(node, what, "both", collides=hit)
+    if not hit and t.first_culled([node]) is None:
+        text = text.removesuffix(".") + f": {t.tested_between(i, j)}."
+    return text
 
 
 def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> str:
@@ -344,8 +409,8 @@ def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> 
         ee = np.array([a in FE[face] or b in FE[face] for a, b in res.ee.tolist()], bool).reshape(-1)
         n = int(vf.sum() + ee.sum())
         toi = res.toi
-        sentences = t.vf(res.vf[vf][:limit], None if toi is None else toi[: len(vf)][vf])
-        sentences += t.ee(res.ee[ee][: limit - len(sentences)], None if toi is None else toi[len(vf):][ee])
+        sentences = t.vf(res.vf[vf][:limit], None if toi is None else toi[: len(vf)][vf], focus=face)
+        sentences += t.ee(res.ee[ee][: limit - len(sentences)], None if toi is None else toi[len(vf):][ee], focus=face)
     else:
         mine = res.pairs[(res.pairs[:, 0] == face) | (res.pairs[:, 1] == face)] if len(res.pairs) else res.pairs
         n = len(mine)
@@ -358,6 +423,6 @@ def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> 
     judged = [x for x in t.path(leaf)[::-1] if t.verdict(x)[0] is not None]
     if not judged:
         return head + "."
-    culled, why = t.verdict(judged[0])
+    culled, verdict, why = t.verdict(judged[0])
     return (head + f"; the smallest node judged that holds it, {t.words(judged[0])}, was "
-            f"{'culled' if culled else 'not culled'}: {why}.")
+            + (f"culled ({why})." if culled else f"not culled ({verdict}: {why})."))

@@ -45,10 +45,10 @@ class FrameLayers:
 
 def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, edge: int = -1,
                   crossings: int = 0) -> str:
-    head = f"node {node} (depth {depth}, {n_tris} triangles) was not culled: "
+    head = f"node {node} (depth {depth}, {n_tris} triangles) was not culled "
     if kind == "cone":
-        return head + CONE_TOO_WIDE[1] + "."
-    return head + explain(code, edge, crossings) + "."
+        return head + f"({CONE_TOO_WIDE[0]}): " + CONE_TOO_WIDE[1] + "."
+    return head + f"({reason_name(code)}): " + explain(code, edge, crossings) + "."
 
 
 def colliding_faces(col, res) -> np.ndarray:

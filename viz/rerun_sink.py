@@ -37,7 +37,7 @@ import rerun.blueprint as rrb
 from conecull.datasets import checks
 from conecull.viz import layers as L
 from conecull.viz.compare import compared_colliders, timed_query
-from conecull.viz.explain import collision_sentences
+from conecull.viz.explain import collision_sentences, time_floor
 from conecull.viz.checks import (check_arithmetic, check_compare, check_depth, check_flag, check_frame_range,
                                  check_method)
 
@@ -121,12 +121,12 @@ class RerunRecorder:
             n_vf = len(res.vf)
             toi = res.toi if res.toi is not None else np.full(n_vf + len(res.ee), np.nan)
             rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0,
-                                                     labels=[f"v{v} f{f} t>={t:.3f}" for (v, f), t in
+                                                     labels=[f"v{v} f{f} t>={time_floor(t, 3)}" for (v, f), t in
                                                              zip(res.vf.tolist(), toi[:n_vf])]))
             E = col.mesh.edges
             strips = [np.vstack([V[E[a]], V[E[b]][::-1]]) for a, b in res.ee]  # both edges of a pair
             rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0,
-                                                         labels=[f"e{a} e{b} t>={t:.3f}" for (a, b), t in
+                                                         labels=[f"e{a} e{b} t>={time_floor(t, 3)}" for (a, b), t in
                                                                  zip(res.ee.tolist(), toi[n_vf:])]))
         else:  # DCD: which triangles intersect, by id
             c = V[self.faces].mean(axis=1)

@@ -235,7 +235,9 @@ class ViewerApp:
         if len(pairs) and ((pairs[:, 0] == self.selected_face) | (pairs[:, 1] == self.selected_face)).any():
             # A colliding triangle: with which, and why no node holding both was culled (the
             # node at the chosen depth alone may be culled: the pair lies across two of them).
-            text = explain_face(col, self.res, self.selected_face, limit=3) + "\n" + text
+            text = (explain_face(col, self.res, self.selected_face, limit=3)
+                    + f"\nThe node at the chosen depth, {node}, holds this triangle; its verdict (below) is about "
+                      "collisions among its own triangles only.\n" + text)
         self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {int(self.frame.value)})\n\n" + \
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()

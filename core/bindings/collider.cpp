@@ -166,6 +166,11 @@ py::dict trace_dict(const RecordingTracer& t) {
     d["contour_simple"] = to_numpy(t.contour_simple).attr("astype")("bool");
     d["level_pairs"] = to_numpy(t.level_pairs);
     d["level_overlaps"] = to_numpy(t.level_overlaps);
+    d["front_node"] = to_numpy(t.front_node);
+    d["front_mode"] = to_numpy(t.front_mode);
+    d["front_before"] = to_numpy(t.front_before);
+    d["front_after"] = to_numpy(t.front_after);
+    d["front_box_tests"] = to_numpy(t.front_box_tests);
     d["elementary_pair"] = to_numpy(t.elementary_pair, 2);
     d["elementary_result"] = to_numpy(t.elementary_result).attr("astype")("bool");
     d["vf_pair"] = to_numpy(t.vf_pair, 2);

@@ -66,3 +66,42 @@ def test_unknown_verdict_codes_are_named(code):
         explain(code)
     with pytest.raises(ValueError, match=r"code: expected a contour verdict code"):
         reason_name(code)
+
+
+@pytest.mark.parametrize("method", ["nc+front", "aabb+front"])
+@pytest.mark.parametrize("ccd", [False, True])
+def test_front_events_match_the_front(method, ccd):
+    """One front event per FrontTracking(Front_N) (Alg. 4 line 13): its size before is what the
+    last query left (front_arrays before), after is what this one keeps (front_arrays after), the
+    sizes kept add up to stats["front_entries"], the resting ones count stats["front_rested"].
+    The fold is queried in order, then its last frame again and again, so that fronts are
+    resumed, built from the top, churn and rest."""
+    from conecull.datasets.inputs import load_sequence
+    from conecull.trace import FRONT_MODES
+
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    col.dcd(P[0])
+    kind = "ccd" if ccd else "dcd"
+    seen = set()
+    for k in list(range(1, 30)) + [29, 28, 29, 28, 29]:
+        before = col.front_arrays(kind)["count"]
+        res = col.ccd(P[k - 1], P[k], trace=True) if ccd else col.dcd(P[k], trace=True)
+        fr, after = res.trace.front, col.front_arrays(kind)["count"]
+        assert len(np.unique(fr["node"])) == len(fr["node"])  # once per node
+        assert np.array_equal(fr["before"], before[fr["node"]])
+        assert np.array_equal(fr["after"], after[fr["node"]])
+        assert int(fr["after"].sum()) == res.stats["front_entries"]
+        assert int((fr["mode"] == 2).sum()) == res.stats["front_rested"]
+        assert ((fr["after"] == 0) == np.isin(fr["mode"], (2, 3))).all()  # a kept cut is never empty
+        assert (fr["before"][fr["mode"] == 1] == 0).all() and (fr["before"][fr["mode"] == 0] > 0).all()
+        assert 0 <= int(fr["box_tests"].sum()) <= res.stats["bv_tests"]
+        seen |= set(fr["mode"].tolist())
+    assert {0, 1} <= seen and set(seen) <= set(FRONT_MODES)
+    assert ccd or seen == {0, 1, 2, 3}  # DCD: repeating the last frames makes fronts churn, then rest
+
+
+def test_front_events_only_with_a_front():
+    _, F, V = meshcases.case("crumple_medium_s2")
+    res = conecull.SelfCollider(conecull.Mesh(F, n_vertices=len(V)), method="nc").dcd(V, trace=True)
+    assert all(len(v) == 0 for v in res.trace.front.values())

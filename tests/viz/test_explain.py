@@ -194,3 +194,93 @@ def test_explain_pair_and_face():
     g = int(col.mesh.vertex_faces[1][col.mesh.vertex_faces[0][v]])
     assert explain_pair(col, ccd, g, f).startswith(f"triangles {g} and {f} touch during the step (")
     assert f"vertex {v} touches triangle {f}" in explain_face(col, ccd, f)
+
+
+def test_edge_edge_contacts_name_the_smallest_node_over_all_triangles_around_them():
+    """The nodes holding a triangle around each edge of an edge-edge contact are not nested: the
+    sentence names the one with the fewest triangles (a review found crumple's step 28 -> 29
+    naming a 170-triangle node where a 74-triangle one also holds the contact), and the pair
+    sentence of any two triangles around the edges never names a smaller one."""
+    from conecull.viz.explain import _Triage
+
+    F, P = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    col.dcd(P[0])
+    res = col.ccd(P[28], P[29], trace=True, toi=True)
+    t = _Triage(col, res)
+    eoff, eids = col.mesh.edge_faces
+    bvh = col.bvh_arrays()
+    size = bvh["end"] - bvh["begin"]
+    checked = 0
+    for (a, b), s in zip(res.ee[:300], t.ee(res.ee[:300], None)):
+        fa, fb = eids[eoff[a] : eoff[a + 1]], eids[eoff[b] : eoff[b + 1]]
+        nodes = [int(smallest_common_nodes(bvh, [i], [j])[0]) for i in fa for j in fb]
+        named = int(s.split("), node ")[1].split(" ")[0]) if "), node " in s else None
+        best = min(nodes, key=lambda n: size[n])
+        assert named == best or size[named] == size[best], (a, b, s)
+        checked += len(set(size[nodes].tolist())) > 1
+    assert checked  # some contacts had candidates of different sizes
+
+
+def test_contact_times_are_rounded_down():
+    from conecull.viz.explain import time_bound, time_floor
+
+    assert time_floor(0.76659966, 3) == "0.766" and time_floor(0.12345982, 4) == "0.1234"
+    assert time_floor(0.9999999999, 3) == "0.999" and time_floor(0.5, 3) == "0.500"
+    assert time_bound(0.0) == "already at t = 0" and time_bound(0.25) == "not before t = 0.2500"
+    rng = np.random.default_rng(3)
+    for t in rng.random(2000):
+        assert float(time_floor(t, 4)) <= t
+
+
+def test_a_resting_front_is_named_as_such():
+    """With a front method, the sentence says how the smallest node's front met the pair, from
+    the query's own front events: resumed, built from the top, or, where it rests after churning,
+    Collide from the top (repeating the fold's last frames makes node 1's front churn, then rest)."""
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F), method="nc+front")
+    for k in range(30):
+        col.dcd(P[k])
+    modes = set()
+    for k in (29, 28, 29, 28, 29):
+        res = col.dcd(P[k], trace=True)
+        fr = dict(zip(res.trace.front["node"].tolist(), res.trace.front["mode"].tolist()))
+        bvh = col.bvh_arrays()
+        nodes = smallest_common_nodes(bvh, res.pairs[:, 0], res.pairs[:, 1])
+        for node, s in zip(nodes, collision_sentences(col, res)):
+            mode = fr[int(node)]
+            modes.add(mode)
+            want = {0: "resumed from the front the last query left", 1: "built from the top",
+                    2: f"from the top: Front_{node} rests after churning", 3: "dropped for churning"}[mode]
+            assert want in s, (mode, s)
+    assert 2 in modes and 0 in modes
+
+
+def test_a_pair_not_colliding_says_whether_it_was_tested():
+    """For a pair that does not collide and was not culled: the trace says whether its test ran
+    (DCD: the triangle-triangle test; CCD: vertex-face and edge-edge tests between them)."""
+    from conecull.viz.explain import _Triage
+
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F))
+    col.dcd(P[0])
+    res = col.dcd(P[28], trace=True)
+    t = _Triage(col, res)
+    tested = {tuple(p) for p in res.trace.elementary["pair"][~res.trace.elementary["result"]].tolist()}
+    i, j = sorted(tested)[0]
+    assert explain_pair(col, res, i, j).endswith("their triangle-triangle test ran and found no intersection.")
+    rng = np.random.default_rng(0)
+    untested = 0
+    for a, b in rng.integers(0, len(F), (400, 2)):
+        if a == b or (min(a, b), max(a, b)) in tested or t.first_culled([int(t.smallest([a], [b])[0])]) is not None:
+            continue
+        assert explain_pair(col, res, int(a), int(b)).endswith("no triangle-triangle test ran: their boxes, or those "
+                                                               "of nodes holding them, were apart.")
+        untested += 1
+    assert untested
+    ccd = col.ccd(P[27], P[28], trace=True)
+    v, f = (int(x) for x in ccd.trace.vf["pair"][~ccd.trace.vf["result"]][0])
+    g = int(col.mesh.vertex_faces[1][col.mesh.vertex_faces[0][v]])
+    text = explain_pair(col, ccd, g, f)
+    if "do not touch" in text:
+        assert "tests between them ran and found no contact" in text

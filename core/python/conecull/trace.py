@@ -3,7 +3,7 @@ shapes and units, shared by the core's Python façade and both viewers (rerun, v
 
 A traced query (`col.dcd(V, trace=True)`) returns a `Trace`: per event kind a table of NumPy
 columns (struct-of-arrays). Node ids index the arrays of `SelfCollider.bvh_arrays()`.
-Later kinds (CCD steps, BVTT front changes) extend `EVENT_KINDS`; existing fields never change.
+Later kinds (CCD steps, BVTT front changes: `front`) extend `EVENT_KINDS`; existing fields never change.
 """
 
 from __future__ import annotations
@@ -57,6 +57,16 @@ EVENT_KINDS: dict[str, EventKind] = {
             Field("pairs", "int64", (), "count", "node pairs visited"),
             Field("overlaps", "int64", (), "count", "of which the boxes overlapped"),
         )),
+        EventKind("front", "FrontTracking(Front_N) of a front method (Alg. 4 line 13): how the node's BVTT front "
+                  "between its children was updated by this query (FRONT_MODES), its size before and after.", (
+            Field("node", "int32", (), "node id", "BVH node N"),
+            Field("mode", "uint8", (), "code", "0 resumed from the front the last query left; 1 built from the top "
+                  "(none was kept); 2 resting: Collide(L, R) from the top, unrecorded, since its front churned; "
+                  "3 resumed but churned: dropped, N rests from the next query (FRONT_MODES)"),
+            Field("before", "int32", (), "entries", "|Front_N| the last query left (0: none kept)"),
+            Field("after", "int32", (), "entries", "|Front_N| kept by this query (0 when resting or churned)"),
+            Field("box_tests", "int64", (), "count", "box tests spent updating it (descents and merges included)"),
+        )),
         EventKind("elementary", "Exact triangle-triangle tests of the candidate pairs (DCD).", (
             Field("pair", "int32", (2,), "face ids", "the two triangles, i < j"),
             Field("result", "bool", (), "", "they collide"),
@@ -71,6 +81,9 @@ EVENT_KINDS: dict[str, EventKind] = {
         )),
     )
 }
+
+# The front event's modes (bvtt_front.hpp, FrontMode).
+FRONT_MODES: dict[int, str] = {0: "resumed", 1: "from_top", 2: "resting", 3: "churned"}
 
 # Plain-language reasons, for logs, panels and `conecull explain`.
 REASONS: dict[int, tuple[str, str]] = {
@@ -134,6 +147,7 @@ class Trace:
         self.cone = {f.name: raw["cone_" + f.name] for f in EVENT_KINDS["cone"].fields}
         self.contour = {f.name: raw["contour_" + f.name] for f in EVENT_KINDS["contour"].fields}
         self.level = {"pairs": raw["level_pairs"], "overlaps": raw["level_overlaps"]}
+        self.front = {f.name: raw["front_" + f.name] for f in EVENT_KINDS["front"].fields}
         self.elementary = {"pair": raw["elementary_pair"], "result": raw["elementary_result"]}
         self.vf = {"pair": raw["vf_pair"], "result": raw["vf_result"]}
         self.ee = {"pair": raw["ee_pair"], "result": raw["ee_result"]}

@@ -9,6 +9,7 @@
 #include "conecull/bvh/bvh.hpp"
 #include "conecull/cone/normal_cone.hpp"
 #include "conecull/contour/contour_test.hpp"
+#include "conecull/traversal/bvtt_front.hpp"
 
 namespace conecull {
 
@@ -35,6 +36,11 @@ struct RecordingTracer {
     std::vector<uint8_t> contour_simple;  // passed by the simplicity fallback (ContourVerdict::by_simplicity)
     // node pairs of Collide(A, B), aggregated by BVH level (the deeper node's depth)
     std::vector<int64_t> level_pairs, level_overlaps;
+    // front: one per FrontTracking(Front_N) (Alg. 4 line 13), front methods only
+    std::vector<int32_t> front_node;
+    std::vector<uint8_t> front_mode;  // FrontMode
+    std::vector<int32_t> front_before, front_after;  // |Front_N| at the query's start (0: none kept), and kept
+    std::vector<int64_t> front_box_tests;
     // elementary tests
     std::vector<int32_t> elementary_pair;  // 2 per event
     std::vector<uint8_t> elementary_result;
@@ -82,6 +88,13 @@ struct RecordingTracer {
         const int32_t d = std::max(bvh->nodes[a].depth, bvh->nodes[b].depth);
         ++level_pairs[d];
         level_overlaps[d] += overlap;
+    }
+    void on_front(int32_t node, FrontMode mode, int32_t before, int32_t after, int64_t box_tests) {
+        front_node.push_back(node);
+        front_mode.push_back(static_cast<uint8_t>(mode));
+        front_before.push_back(before);
+        front_after.push_back(after);
+        front_box_tests.push_back(box_tests);
     }
     void on_vf(int32_t v, int32_t f, bool result) {
         vf_pair.push_back(v);

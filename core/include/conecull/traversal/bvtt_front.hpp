@@ -23,6 +23,11 @@
 
 namespace conecull {
 
+// How one query's FrontTracking(Front_X) (Alg. 4 line 13) went, for its trace event: resumed from
+// the front the last query left; built from the top (none was kept); Collide from the top,
+// unrecorded, because X rests after churning; or resumed but churned, so dropped (X rests).
+enum class FrontMode : uint8_t { kResumed = 0, kFromTop = 1, kResting = 2, kChurned = 3 };
+
 // A BVTT node A * B: BVH nodes with disjoint triangle sets (A under X->left, B under X->right).
 struct FrontEntry {
     int32_t a, b;

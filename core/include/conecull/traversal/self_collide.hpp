@@ -322,13 +322,25 @@ class SelfCollideTraversal {
         BvttFront& f = *front_;
         FrontPart& next = *part_;
         const size_t start = next.entries.size();
+        const int64_t tests_at_start = stats_.bv_tests;
+        const int32_t had = f.is_tracked(n) ? f.count[n] : 0;
+        // The front event of Front_N (how it was updated, its size before and after, the box
+        // tests spent), at each way out.
+        const auto traced = [&](FrontMode mode) {
+            if constexpr (kTraceHooks<Tracer>)
+                tracer_.on_front(n, mode, had, mode == FrontMode::kResting || mode == FrontMode::kChurned
+                                                   ? 0 : static_cast<int32_t>(next.entries.size() - start),
+                                 stats_.bv_tests - tests_at_start);
+        };
         mergeable_run_ = 0;  // a new sub-segment: nothing before it may merge
         if (f.rest[n] > 0) {  // resting after churn (bvtt_front.hpp): Alg. 2 line 13, unrecorded
             --f.rest[n];
             ++stats_.front_rested;
             collide<false>(Bvh::left(n), bvh_[n].right);
+            traced(FrontMode::kResting);
             return;
         }
+        const FrontMode mode = f.is_tracked(n) ? FrontMode::kResumed : FrontMode::kFromTop;
         if (!f.is_tracked(n)) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
@@ -366,6 +378,7 @@ class SelfCollideTraversal {
             }
             if (f.churned(n, stats_.bv_tests - tests_before, static_cast<int64_t>(next.entries.size() - start))) {
                 next.entries.resize(start);  // X rests from the next query: nothing kept
+                traced(FrontMode::kChurned);
                 return;
             }
         }
@@ -373,6 +386,7 @@ class SelfCollideTraversal {
         f.count[n] = static_cast<int32_t>(next.entries.size() - start);
         f.tracked[n] = f.query + 1;
         if (rebase_) next.nodes.push_back(n);
+        traced(mode);
     }
 
     void push_front(FrontEntry e, bool mergeable) {
