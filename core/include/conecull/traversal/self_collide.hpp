@@ -322,11 +322,11 @@ class SelfCollideTraversal {
         BvttFront& f = *front_;
         FrontPart& next = *part_;
         const size_t start = next.entries.size();
-        const int64_t tests_at_start = stats_.bv_tests;
-        const int32_t had = f.is_tracked(n) ? f.count[n] : 0;
         // The front event of Front_N (how it was updated, its size before and after, the box
-        // tests spent), at each way out.
-        const auto traced = [&](FrontMode mode) {
+        // tests spent), at each way out; nothing of it is computed with tracing off.
+        [[maybe_unused]] const int64_t tests_at_start = kTraceHooks<Tracer> ? stats_.bv_tests : 0;
+        [[maybe_unused]] const int32_t had = kTraceHooks<Tracer> && f.is_tracked(n) ? f.count[n] : 0;
+        const auto traced = [&]([[maybe_unused]] FrontMode mode) {
             if constexpr (kTraceHooks<Tracer>)
                 tracer_.on_front(n, mode, had, mode == FrontMode::kResting || mode == FrontMode::kChurned
                                                    ? 0 : static_cast<int32_t>(next.entries.size() - start),
