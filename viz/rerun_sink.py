@@ -16,7 +16,7 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/collisions       Points3D (DCD): one per colliding pair, between the two triangles'
                           centroids, labelled with their ids ("12 x 60")
   /scene/contacts/vf, /ee Points3D / LineStrips3D: CCD contacts of the step (drawn at its end),
-                          labelled with their ids and earliest time ("v6 f62 t>=0.766")
+                          labelled with their ids and earliest time, rounded down ("v6 f62 t>=0.765")
   /front/mesh             Mesh3D (front methods): each face coloured by how many BVTT front
                           entries reach it (SelfCollider.front_load), in a second 3D tab
   /stats/compare/<method>/...  Scalars (record's compare=): per compared method, run untraced on
