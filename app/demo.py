@@ -40,4 +40,13 @@ def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
     print(f"open it with:   {rerun_command(out)}   (the viewer ships with rerun-sdk)")
     print(f"live view:      {shlex.quote(_tool('conecull'))} view {DEFAULT_SCENE}   (prints the http://127.0.0.1 address "
           "to open)")
+    hit = next((k for k, s in enumerate(stats) if s["colliding_pairs"]), None)
+    if hit is not None:  # the triage question for the first colliding frame
+        import conecull
+
+        col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+        col.dcd(frames[0])  # node ids from the first frame, as in `record` and `explain`
+        i, j = col.dcd(frames[hit], stop_at_first=True).pairs[0]
+        print(f"why a collision was not culled away: {shlex.quote(_tool('conecull'))} explain {DEFAULT_SCENE} "
+              f"--frame {hit} --pair {i} {j}" + (f" --method {method}" if method != "nc" else ""))
     return 0

@@ -24,3 +24,11 @@ def test_demo_writes_a_recording_of_every_frame(tmp_path, capsys):
     table = [line.split() for line in printed.splitlines() if line.split() and line.split()[0].isdigit()]
     assert [int(r[0]) for r in table] == list(range(len(frames)))
     assert [int(r[5]) for r in table] == want  # the "colliding" column
+    # the triage command it prints names the first colliding frame and a pair of it, and runs
+    line = next(x for x in printed.splitlines() if x.startswith("why a collision was not culled away: "))
+    words = line.split(": ", 1)[1].split()
+    first = want.index(next(w for w in want if w))
+    assert words[1:5] == ["explain", DEFAULT_SCENE, "--frame", str(first)] and words[5] == "--pair"
+    i, j = int(words[6]), int(words[7])
+    assert (i, j) in {tuple(p) for p in col.dcd(frames[first]).pairs.tolist()}
+    assert main(words[1:]) == 0 and f"triangles {i} and {j} intersect" in capsys.readouterr().out
