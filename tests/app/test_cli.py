@@ -48,6 +48,19 @@ def test_check_then_explain_a_collision(capsys):
     assert "do not intersect" in capsys.readouterr().out
 
 
+@pytest.mark.parametrize("ccd", [False, True])
+def test_record_prints_the_explain_command_of_its_first_collision(tmp_path, capsys, ccd):
+    out = str(tmp_path / "r.rrd")
+    assert main(["record", "fold", "--frames", "26:30", "--out", out] + (["--ccd"] if ccd else [])) == 0
+    line = capsys.readouterr().out.splitlines()[-1]
+    assert line.startswith(f"first collision recorded at {'step 27' if ccd else 'frame 28'}; why it was not culled away: ")
+    assert main(line.split("away: ")[1].split()[1:]) == 0
+    text = capsys.readouterr().out
+    assert ("touches" if ccd else "intersect: the smallest node holding both") in text
+    assert main(["record", "fold", "--frames", "0:3", "--out", out]) == 0
+    assert "first collision" not in capsys.readouterr().out  # none recorded
+
+
 def test_explain_known_failing_contour(capsys):
     """A node whose contour test fails on a known reason: find one in the trace, then explain it."""
     import conecull
