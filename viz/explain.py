@@ -20,9 +20,10 @@ def parents(bvh: dict) -> np.ndarray:
     return p
 
 
-def path_to_root(bvh: dict, node: int) -> list[int]:
-    par = parents(bvh)
-    out = [node]
+def path_to_root(bvh: dict, node: int, par: np.ndarray | None = None) -> list[int]:
+    """node, its parent, ..., the root; par: parents(bvh), if already at hand."""
+    par = parents(bvh) if par is None else par
+    out = [int(node)]
     while par[out[-1]] >= 0:
         out.append(int(par[out[-1]]))
     return out
@@ -242,10 +243,7 @@ class _Triage:
 
     def path(self, node: int) -> list[int]:
         """The root, ..., node."""
-        out = [int(node)]
-        while self.parent[out[-1]] >= 0:
-            out.append(int(self.parent[out[-1]]))
-        return out[::-1]
+        return path_to_root(self.bvh, node, self.parent)[::-1]
 
     def words(self, node: int) -> str:
         nt = self.size(node)
@@ -344,13 +342,20 @@ class _Triage:
             ran = len(tr.elementary["pair"]) and bool((tr.elementary["pair"] == pair).all(axis=1).any())
             return ("their triangle-triangle test ran and found no intersection" if ran else
                     "no triangle-triangle test ran: their boxes, or those of nodes holding them, were apart")
-        F, FE = self.col.mesh.faces, self.col.mesh.face_edges
-        vf = sum(1 for v, f in tr.vf["pair"].tolist() if (f == j and v in F[i]) or (f == i and v in F[j]))
-        ee = sum(1 for a, b in tr.ee["pair"].tolist() if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i]))
+        vf, ee = (len(x) for x in _between(self.col, tr.vf["pair"], tr.ee["pair"], i, j))
         if vf + ee:
             return f"{vf} vertex-face and {ee} edge-edge tests between them ran and found no contact"
         return ("no vertex-face or edge-edge test between them ran: their swept boxes were apart, or the "
                 "non-penetration filter ruled the pairs out")
+
+
+def _between(col, vf_rows, ee_rows, i: int, j: int) -> tuple[list, list]:
+    """The vertex-face rows (v, f) and edge-edge rows (a, b) that pair a feature of triangle i
+    with one of triangle j (a vertex of one with the other face, an edge of each)."""
+    F, FE = col.mesh.faces, col.mesh.face_edges
+    vf = [(v, f) for v, f in vf_rows.tolist() if (f == j and v in F[i]) or (f == i and v in F[j])]
+    ee = [(a, b) for a, b in ee_rows.tolist() if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i])]
+    return vf, ee
 
 
 def collision_sentences(col, res, limit: int | None = None) -> list[str]:
@@ -373,12 +378,10 @@ def explain_pair(col, res, i: int, j: int, *, names: tuple = ("i", "j")) -> str:
     the smallest node holding both, which decided whether they were ever tested."""
     check_result(col, res)
     i, j = (check_face(x, col.mesh.n_faces, n) for x, n in zip((i, j), names))
-    F, FE = col.mesh.faces, col.mesh.face_edges
     if hasattr(res, "vf"):
-        vf = [f"vertex {v} and triangle {f}" for v, f in res.vf.tolist()
-              if (f == j and v in F[i]) or (f == i and v in F[j])]
-        ee = [f"edges {a} and {b}" for a, b in res.ee.tolist()
-              if (a in FE[i] and b in FE[j]) or (a in FE[j] and b in FE[i])]
+        vf_rows, ee_rows = _between(col, res.vf, res.ee, i, j)
+        vf = [f"vertex {v} and triangle {f}" for v, f in vf_rows]
+        ee = [f"edges {a} and {b}" for a, b in ee_rows]
         hit = bool(vf + ee)
         what = (f"triangles {i} and {j} touch during the step ({'; '.join(vf + ee)})" if hit
                 else f"triangles {i} and {j} do not touch during the step")

@@ -341,7 +341,7 @@ class SelfCollideTraversal {
             return;
         }
         const FrontMode mode = f.is_tracked(n) ? FrontMode::kResumed : FrontMode::kFromTop;
-        if (!f.is_tracked(n)) {
+        if (mode == FrontMode::kFromTop) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
             const int64_t tests_before = stats_.bv_tests;
