@@ -22,7 +22,7 @@ struct PyCollider {
         : collider(std::move(t), m, leaf, threads) {}
 };
 
-// Ctrl-C during a CCD query on Python's main thread (interrupt.hpp). For the query's duration a
+// Ctrl-C during a query on Python's main thread (interrupt.hpp). For the query's duration a
 // SIGINT handler of ours sets the flag the query reads, then calls the handler it replaced
 // (Python's, which notes the signal for the interpreter), so nothing is lost; afterwards the old
 // handler is back. Only on the main thread, where Python raises KeyboardInterrupt, and only
@@ -262,10 +262,16 @@ void bind_collider(py::module_& m) {
                 require_points(V, "V", self.collider.topology().n_vertices, 3, checks);
                 DcdResult res;
                 RecordingTracer tracer;
-                without_gil([&] {
-                    std::lock_guard<std::mutex> lock(self.mutex);
-                    res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads, stop_at_first);
-                });
+                const bool interruptible = interruptible_here();
+                try {
+                    without_gil([&] {
+                        std::lock_guard<std::mutex> lock(self.mutex);
+                        const SigintScope sigint(self.collider, interruptible);  // as ccd
+                        res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads, stop_at_first);
+                    });
+                } catch (const Interrupted&) {
+                    SigintScope::raise_interrupt();
+                }
                 py::array_t<int64_t> pairs({static_cast<py::ssize_t>(res.pairs.size()), py::ssize_t(2)});
                 int64_t* p = pairs.mutable_data();
                 for (size_t i = 0; i < res.pairs.size(); ++i) {

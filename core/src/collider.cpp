@@ -93,13 +93,14 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
             if (query_threads_ > 1) {
                 const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart* part) {
                     return SelfCollideTraversal<kCones, Tracer, Motion, kFront>(bvh_, contours_, cones_, motion, tracer,
-                                                                               s, out, f, kFront ? part : nullptr);
+                                                                               s, out, interrupt_, f, kFront ? part : nullptr);
                 };
                 parallel_self_collide(bvh_, query_threads_, make, f, st, candidate_list_, parallel_);
                 return;
             }
         }
-        SelfCollideTraversal<kCones, Tracer, Motion, kFront>(bvh_, contours_, cones_, motion, tracer, st, candidates_, f)
+        SelfCollideTraversal<kCones, Tracer, Motion, kFront>(bvh_, contours_, cones_, motion, tracer, st, candidates_,
+                                                             interrupt_, f)
             .run();
     };
     switch (method_) {
@@ -118,19 +119,19 @@ void SelfCollider::traverse(const Motion& motion, Tracer& tracer, DcdStats& st) 
         case Method::kSct:
             if constexpr (!Motion::kContinuous) {
                 const DiscreteProjected m{motion.V, &projection_};
-                SelfCollideTraversal<true, Tracer, DiscreteProjected>(bvh_, contours_, cones_, m, tracer, st, candidates_)
-                    .run();
+                SelfCollideTraversal<true, Tracer, DiscreteProjected>(bvh_, contours_, cones_, m, tracer, st,
+                                                                      candidates_, interrupt_).run();
             }  // CCD: rejected by ccd()
             break;
         case Method::kCbc:
             if constexpr (Motion::kContinuous) {
                 const ContinuousQuadratic m{motion.V0, motion.V1};
                 SelfCollideTraversal<true, Tracer, ContinuousQuadratic>(bvh_, contours_, cones_, m, tracer, st,
-                                                                        candidates_).run();
+                                                                        candidates_, interrupt_).run();
             } else {
                 const DiscreteQuadratic m{motion.V};
-                SelfCollideTraversal<true, Tracer, DiscreteQuadratic>(bvh_, contours_, cones_, m, tracer, st, candidates_)
-                    .run();
+                SelfCollideTraversal<true, Tracer, DiscreteQuadratic>(bvh_, contours_, cones_, m, tracer, st,
+                                                                      candidates_, interrupt_).run();
             }
             break;
     }
@@ -168,6 +169,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     const auto scan = [&](const TrianglePair* p, int64_t n, const auto& on_hit) -> int64_t {
         int64_t k = 0;
         for (; k + 4 <= n; k += 4) {
+            if ((k & (kDcdInterruptStride - 1)) == 0 && interrupt_requested(interrupt_)) throw Interrupted{};
             for (int l = 0; l < 4; ++l) {
                 if (k + 16 + l < n) ahead(p[k + 16 + l], 16);
                 if (k + 8 + l < n) ahead(p[k + 8 + l], 8);
@@ -204,7 +206,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
                 const Discrete motion{V, dcd_first_.data(), false};  // first hit: no learning (see Discrete)
                 const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
                     return SelfCollideTraversal<kCones, Tracer, Discrete, false>(bvh_, contours_, cones_, motion, tracer,
-                                                                                s, out);
+                                                                                s, out, interrupt_);
                 };
                 const auto find_hit = [&](const std::vector<TrianglePair>& c, NoTaskOut&) {
                     return scan(c.data(), static_cast<int64_t>(c.size()), stop);
@@ -265,7 +267,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     });
     concat_in_order(hits, hits.size(), 1, res.pairs);
     st.elementary_tests = candidates.size();
-    parallel_sort(res.pairs, query_threads_);
+    parallel_sort(res.pairs, query_threads_, interrupt_);
     st.colliding_pairs = static_cast<int64_t>(res.pairs.size());
     st.seconds_elementary = seconds_since(t0);
 }
@@ -280,7 +282,12 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
     else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
-    with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res, stop_at_first); });
+    try {
+        with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res, stop_at_first); });
+    } catch (const Interrupted&) {
+        dcd_front_.reset(bvh_);  // perhaps stopped inside the traversal, the front half rebuilt
+        throw;
+    }
     return res;
 }
 
@@ -326,7 +333,12 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
     else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);
-    with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res, stop_at_first); });
+    try {
+        with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res, stop_at_first); });
+    } catch (const Interrupted&) {
+        ccd_front_.reset(bvh_);  // as dcd
+        throw;
+    }
     if (want_toi) {
         const int32_t* F = topo_->faces.data();
         const int32_t* E = topo_->edges.data();
@@ -547,7 +559,7 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
                     constexpr bool kCones = decltype(cones)::value;
                     const auto make = [&](DcdStats& s, std::vector<TrianglePair>& out, FrontPart*) {
                         return SelfCollideTraversal<kCones, Tracer, Continuous, false>(bvh_, contours_, cones_, motion,
-                                                                                      tracer, s, out);
+                                                                                      tracer, s, out, interrupt_);
                     };
                     const auto find_hit = [&](const std::vector<TrianglePair>& c, CcdTally& out) {
                         CandidateList list;

@@ -1,12 +1,14 @@
-// Abandoning a query's elementary tests when the user asks (Ctrl-C in Python).
+// Abandoning a query when the user asks (Ctrl-C in Python).
 //
-// The slow queries are slow in their elementary tests (exact CCD on steps where every pair is
-// near-degenerate: about 1 ms per pair), and these come last: the refit, the traversal and the
-// front are complete by then, so abandoning the tests leaves the collider as a finished query
-// would, minus its result (a first-hit query's traversal, which runs with its tests, learns
-// nothing either). The bindings point a query at a flag that their SIGINT handler sets; the test
-// loops read it every kInterruptStride tests (a first-hit query: before each candidate's tests)
-// and stop; the query then throws Interrupted, which the bindings turn into KeyboardInterrupt.
+// A query is slow where it does much of one thing: elementary tests (exact CCD on steps where
+// every pair is near-degenerate: about 1 ms per pair; DCD on a mesh crumpled onto itself: tens of
+// millions of pairs at ~60 ns), or a traversal emitting that many candidates. The bindings point
+// a query at a flag that their SIGINT handler sets; the loops read it every kInterruptStride CCD
+// tests (a first-hit query: before each candidate's tests), every kDcdInterruptStride DCD tests,
+// and every few dozen candidates the traversal emits (SelfCollideTraversal::flush), and stop; the
+// query then throws Interrupted, which the bindings turn into KeyboardInterrupt. The collider
+// forgets its front (it may have been half rebuilt): the next query rebuilds it from the top and
+// answers as a fresh collider would.
 #pragma once
 
 #include <atomic>
@@ -17,6 +19,7 @@ namespace conecull {
 struct Interrupted {};
 
 inline constexpr int64_t kInterruptStride = 64;  // at ~1 ms per slow test: a reaction within ~0.1 s
+inline constexpr int64_t kDcdInterruptStride = 4096;  // a power of 2; at ~60 ns per test: ~0.25 ms
 
 // True if `flag` (none: never) is set; read relaxed: a stop a few tests late is as good.
 inline bool interrupt_requested(const std::atomic<bool>* flag) {

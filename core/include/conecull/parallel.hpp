@@ -25,6 +25,8 @@
 #include <thread>
 #include <vector>
 
+#include "conecull/interrupt.hpp"
+
 namespace conecull {
 
 // threads <= 0: all cores.
@@ -310,22 +312,31 @@ void concat_in_order(const std::vector<Padded<std::vector<T>>>& parts, size_t n_
 
 // std::sort(v) on up to `threads` threads: slices sorted in parallel, then merged pairwise. For
 // element types whose equal elements are identical (pairs of ints, integers), the result is
-// std::sort's, whatever the thread count.
+// std::sort's, whatever the thread count. A long sort (tens of millions of elements: the pairs of
+// a mesh crumpled onto itself) is cut into slices of ~2^20 elements whatever the threads, and
+// looks at `interrupt` (interrupt.hpp) before each slice and each merge: throws Interrupted.
 template <class T>
-void parallel_sort(std::vector<T>& v, int threads) {
+void parallel_sort(std::vector<T>& v, int threads, const std::atomic<bool>* interrupt = nullptr) {
+    constexpr size_t kSlice = size_t{1} << 20;
     const size_t n = v.size();
-    const size_t parts = std::min<size_t>(std::max(threads, 1), 8);
+    const size_t parts = std::max<size_t>(std::min<size_t>(std::max(threads, 1), 8), n / kSlice);
     if (parts <= 1 || n < (1u << 13)) {
         std::sort(v.begin(), v.end());
         return;
     }
+    const auto look = [interrupt] {
+        if (interrupt_requested(interrupt)) throw Interrupted{};
+    };
     std::vector<size_t> at(parts + 1);
     for (size_t k = 0; k <= parts; ++k) at[k] = n * k / parts;
-    parallel_chunks(static_cast<int64_t>(parts), threads,
-                    [&](int64_t k, int) { std::sort(v.begin() + at[k], v.begin() + at[k + 1]); });
+    parallel_chunks(static_cast<int64_t>(parts), threads, [&](int64_t k, int) {
+        look();
+        std::sort(v.begin() + at[k], v.begin() + at[k + 1]);
+    });
     for (size_t width = 1; width < parts; width *= 2) {  // merge neighbouring runs
         const size_t pairs = (parts + 2 * width - 1) / (2 * width);
         parallel_chunks(static_cast<int64_t>(pairs), threads, [&](int64_t p, int) {
+            look();
             const size_t lo = 2 * width * static_cast<size_t>(p), mid = std::min(lo + width, parts),
                          hi = std::min(lo + 2 * width, parts);
             if (mid < hi) std::inplace_merge(v.begin() + at[lo], v.begin() + at[mid], v.begin() + at[hi]);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <utility>
@@ -20,6 +21,7 @@
 #include "conecull/contour/contour_test_cbc.hpp"
 #include "conecull/contour/contour_test_sct.hpp"
 #include "conecull/contour/contour_test_simple.hpp"
+#include "conecull/interrupt.hpp"
 #include "conecull/trace/null_tracer.hpp"
 #include "conecull/traversal/bvtt_front.hpp"
 #include "conecull/traversal/stats.hpp"
@@ -120,11 +122,13 @@ struct ContinuousQuadratic {
 template <bool kUseCones, class Tracer, class Motion = Discrete, bool kTrackFront = false>
 class SelfCollideTraversal {
    public:
+    // interrupt: the query's Ctrl-C flag (interrupt.hpp), or null.
     SelfCollideTraversal(const Bvh& bvh, const Contours& contours, const std::vector<NormalCone>& cones,
                          const Motion& motion, Tracer& tracer, DcdStats& stats, std::vector<TrianglePair>& candidates,
-                         BvttFront* front = nullptr, FrontPart* part = nullptr)
+                         const std::atomic<bool>* interrupt, BvttFront* front = nullptr, FrontPart* part = nullptr)
         : bvh_(bvh), contours_(contours), cones_(cones), motion_(motion), tracer_(tracer), stats_(stats), out_(candidates),
-          front_(front), part_(part ? part : front ? &front->next : nullptr), rebase_(part != nullptr) {}
+          interrupt_(interrupt), front_(front), part_(part ? part : front ? &front->next : nullptr),
+          rebase_(part != nullptr) {}
 
     void run() {
         if constexpr (kTrackFront) part_->clear();
@@ -420,9 +424,14 @@ class SelfCollideTraversal {
         buffer_[buffered_++] = {s < t ? s : t, s < t ? t : s};
         if (buffered_ == kBuffer) flush();
     }
+    // Also where the traversal looks at the Ctrl-C flag: a long traversal is one that emits many
+    // candidates (every other box test is bounded by them and the nodes), so once per kBuffer of
+    // them. Thrown from the recursion, Interrupted unwinds it; the collider then forgets the front
+    // being built (SelfCollider::dcd / ccd).
     [[gnu::noinline]] void flush() {
         out_.insert(out_.end(), buffer_.begin(), buffer_.begin() + buffered_);
         buffered_ = 0;
+        if (interrupt_requested(interrupt_)) throw Interrupted{};
     }
 
     const Bvh& bvh_;
@@ -432,6 +441,7 @@ class SelfCollideTraversal {
     Tracer& tracer_;
     DcdStats& stats_;
     std::vector<TrianglePair>& out_;
+    const std::atomic<bool>* interrupt_;
     BvttFront* front_;  // kTrackFront only
     FrontPart* part_;   // where the new sub-segments go
     bool rebase_;       // part_ is a task's: record the nodes whose begin[] is relative to it
