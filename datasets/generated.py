@@ -1,7 +1,7 @@
 """Small analytic mesh generators and deforming sequences (kinematic: no simulation).
 
-Used by the demo, the benchmark and the tests until the scene registry of the datasets issue
-lands. Every function is deterministic.
+The kinematic scenes of the registry (registry.py) and the meshes of the demo, the benchmark
+and the tests. Every function is deterministic.
 """
 
 from __future__ import annotations

@@ -9,6 +9,7 @@ what each declares, and only those are ever computed.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -64,7 +65,7 @@ def _bend(resolution: int, frames: int, dt: float):
 
 def _simulated_scene(name, description, stands_for, setup, triangles, resolution, frames, effects) -> Scene:
     """A simulated scene: its set-up's effects must be exactly the declared ones (the simulator
-    checks), so an effect a scene does not declare is never even constructed."""
+    refuses the set-up otherwise), so an effect a scene does not declare never runs."""
     from conecull.datasets.sim import Simulator
 
     def generate(res: int, n_frames: int, dt: float):
@@ -134,9 +135,19 @@ def _code_digest() -> str:
     return h.hexdigest()[:16]
 
 
+@functools.lru_cache(maxsize=1)
+def _core_digest() -> str:
+    """The built C++ core: the simulator's self-contact runs its exact CCD every substep, so a
+    change there can change a simulated sequence (any rebuild counts: the binary is hashed)."""
+    from conecull import _core
+
+    return hashlib.sha256(Path(_core.__file__).read_bytes()).hexdigest()[:16]
+
+
 def _key(scene: Scene, resolution: int, frames: int) -> str:
     blob = json.dumps({"v": CACHE_VERSION, "code": _code_digest(), "scene": scene.name, "res": resolution,
-                       "frames": frames, "effects": list(scene.effects), "dt": scene.dt}, sort_keys=True)
+                       "frames": frames, "effects": list(scene.effects), "dt": scene.dt,
+                       "core": _core_digest() if scene.effects else None}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 

@@ -153,7 +153,7 @@ def test_an_npz_without_arrays(tmp_path, mesh_file):
 
 
 @pytest.mark.parametrize("text,match", [
-    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n", r"bad\.obj: faces: row 0 repeats a vertex"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n", r"bad\.obj: line 4 \('f 1 1 2'\): a face repeats a vertex: \[1, 1, 2\] \(counted from 1\)"),
     ("v 0 0 nan\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", r"bad\.obj: vertices: non-finite coordinate nan at row 0, column 2"),
     ("v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n",
      r"bad\.obj: vertices: coordinate 1e\+300 at row 1, column 0 is outside the supported range"),

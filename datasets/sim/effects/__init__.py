@@ -1,4 +1,4 @@
-"""Effects of the simulator, one module per kind (forces, constraints, colliders, contact), one class each, in three stages:
+"""Effects of the simulator, one module per kind (forces, constraints, colliders, contact), one class each, in five stages:
   force(sim, dt)       adds to velocities before prediction (gravity, wind);
   constrain(sim, dt)   projects predicted positions, XPBD style (stretch, bend);
   collide(sim, dt)     pushes predicted positions out of kinematic colliders, with friction;

@@ -1,0 +1,153 @@
+"""Mesh files load with the file's own vertex ids and face order (the triangle ids that `check`
+and `explain` report must be the file's), and what a file or folder leaves ambiguous is refused
+rather than guessed."""
+
+import struct
+import warnings
+
+import numpy as np
+import pytest
+import trimesh
+
+import conecull
+from conecull.datasets.generated import grid_sheet
+from conecull.datasets.inputs import frame_order, load_sequence
+
+
+@pytest.fixture
+def sheet():
+    return grid_sheet(6, 6)  # 36 vertices, 50 faces, flat: intersection-free
+
+
+def obj_text(V, F, group_of=None):
+    """An OBJ as garment exporters write one: faces under `usemtl` groups (group_of[k] for face
+    k; groups interleave when it alternates), with texture and normal indices."""
+    out = ["mtllib sheet.mtl"] + [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in V] + ["vt 0 0", "vn 0 0 1"]
+    last = None
+    for k, (a, b, c) in enumerate(F):
+        g = group_of[k] if group_of is not None else None
+        if g != last:
+            out.append(f"usemtl {g}")
+            last = g
+        out.append(f"f {a + 1}/1/1 {b + 1}/1/1 {c + 1}/1/1")
+    return "\n".join(out) + "\n"
+
+
+@pytest.mark.parametrize("groups", ["halves", "interleaved"])
+def test_obj_material_groups_keep_the_files_ids(tmp_path, sheet, groups):
+    """trimesh (maintain_order=True, as the loader used it) split the vertices at material groups
+    and ordered faces by material: here 36 vertices became 58 and 72, no face kept its id, and
+    the flat sheet had 41 and 113 'intersecting' pairs (measured)."""
+    F, V = sheet
+    group_of = ["front" if k < len(F) // 2 else "back" for k in range(len(F))] if groups == "halves" else \
+        ["front" if k % 2 else "back" for k in range(len(F))]
+    d = tmp_path / "frames"
+    d.mkdir()
+    for k in range(3):
+        (d / f"f{k}.obj").write_text(obj_text(V + [0, 0, 0.1 * k], F, group_of))
+    Fl, P = load_sequence(str(d))
+    assert np.array_equal(Fl, F) and np.array_equal(P[0], V) and P.shape == (3, 36, 3)
+    assert len(conecull.SelfCollider(conecull.Mesh(Fl), method="nc").dcd(P[1]).pairs) == 0
+
+
+def test_obj_forms(tmp_path):
+    """Negative indices, v//n and v/t forms, comments, a continued line, a vertex after the faces
+    that use it, and faces of 4 and 5 corners (fans, in file order, with a warning)."""
+    text = ("# a comment\nv 0 0 0\nv 1 0 0\nv 1 1 0 # trailing\nv 0 1 0\nf 1//1 2//1 3//1\nf -4/1 -2/1 \\\n -1/1\n"
+            "f 1 2 3 4\nf 2 3 4 5 1\nv 0.5 0.5 1\n")
+    (tmp_path / "m.obj").write_text(text)
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        F, P = load_sequence(str(tmp_path / "m.obj"))
+    assert F.tolist() == [[0, 1, 2], [0, 2, 3], [0, 1, 2], [0, 2, 3], [1, 2, 3], [1, 3, 4], [1, 4, 0]]
+    assert P[0].tolist() == [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 0.5, 1]]
+    assert [str(x.message) for x in w] == [
+        "INPUT: 2 faces of 'm.obj' with more than 3 corners were split into triangles (a fan from each face's first "
+        "corner, in file order): triangle ids count these triangles, not the file's faces"]
+
+
+@pytest.mark.parametrize("text,match", [
+    ("v 0 0 0\nv 1 0 0\nf 1 2\n", r"m\.obj: line 3 \('f 1 2'\): a face needs at least 3 vertices, this one has 2"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3 1\n", r"m\.obj: line 4 \('f 1 2 3 1'\): a face repeats a vertex"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", r"m\.obj: line 4 \('f 1 2 4'\): a face refers to vertex 4 \(counted "
+                                            r"from 1\), but the file has 3 vertices"),
+    ("v 0 0 0\nv 1 0 0\nf 1 2 -3\nv 0 1 0\n", r"m\.obj: line 3: a face refers to vertex -3, counted back from the last "
+                                            r"one, but only 2 come before it"),
+    ("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: a vertex needs 3 coordinates \('v 1 0'\)"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n", r"m\.obj: line 4: a face's vertex must be a number"),
+])
+def test_bad_obj_lines_are_named(tmp_path, text, match):
+    (tmp_path / "m.obj").write_text(text)
+    with pytest.raises(ValueError, match=match):
+        load_sequence(str(tmp_path / "m.obj"))
+
+
+PLY_HEAD = ("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face {n}\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 2\n")
+
+
+def test_ply_polygons_are_fans_in_file_order(tmp_path):
+    """trimesh dropped a face of 2 corners and split quads its own way, silently."""
+    (tmp_path / "q.ply").write_text(PLY_HEAD.format(n=3) + "3 0 1 4\n4 0 1 2 3\n3 2 3 4\n")
+    with pytest.warns(UserWarning, match=r"INPUT: 1 face of 'q\.ply' with more than 3 corners was split"):
+        F, _ = load_sequence(str(tmp_path / "q.ply"))
+    assert F.tolist() == [[0, 1, 4], [0, 1, 2], [0, 2, 3], [2, 3, 4]]
+    (tmp_path / "two.ply").write_text(PLY_HEAD.format(n=2) + "3 0 1 2\n2 3 4\n")
+    with pytest.raises(ValueError, match=r"two\.ply: face 1 \(counted from 0\): a face needs at least 3 vertices"):
+        load_sequence(str(tmp_path / "two.ply"))
+    (tmp_path / "rep.ply").write_text(PLY_HEAD.format(n=1) + "5 0 1 2 3 0\n")
+    with pytest.raises(ValueError, match=r"rep\.ply: face 0 \(counted from 0\): a face repeats a vertex"):
+        load_sequence(str(tmp_path / "rep.ply"))
+
+
+def test_binary_ply_keeps_its_faces(tmp_path):
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 2, 2]], np.float32)
+    F = [[0, 1, 2], [0, 2, 3], [2, 3, 4]]
+    head = ("ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+            "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n").encode()
+    body = V.tobytes() + b"".join(struct.pack("<B3i", 3, *f) for f in F)
+    (tmp_path / "b.ply").write_bytes(head + body)
+    Fl, P = load_sequence(str(tmp_path / "b.ply"))
+    assert Fl.tolist() == F and np.array_equal(P[0], V)
+
+
+def test_ambiguous_folders_are_refused(tmp_path):
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    d = tmp_path / "mixed"
+    d.mkdir()
+    for k in range(2):  # the same two frames in both formats: loaded as 4 interleaved frames before
+        trimesh.Trimesh(V + [0, 0, k], [[0, 1, 2]], process=False).export(d / f"frame{k}.ply")
+        trimesh.Trimesh(V + [0, 0, k], [[0, 1, 2]], process=False).export(d / f"frame{k}.obj")
+    with pytest.raises(ValueError, match=r"INPUT: folder '.*mixed' holds both \.obj and \.ply files"):
+        load_sequence(str(d))
+    d = tmp_path / "twice"
+    d.mkdir()
+    for name in ("f1.ply", "f01.ply", "f2.ply"):
+        trimesh.Trimesh(V, [[0, 1, 2]], process=False).export(d / name)
+    with pytest.raises(ValueError, match=r"INPUT: 'f01\.ply' and 'f1\.ply' in folder '.*twice' have the same frame "
+                                         r"number"):
+        load_sequence(str(d))
+
+
+def test_frame_order_reads_decimal_time_stamps():
+    names = ["t0.5.obj", "t0.25.obj", "t1.0.obj", "t0.75.obj", "t10.obj", "t2.obj"]
+    assert frame_order(names) == ["t0.25.obj", "t0.5.obj", "t0.75.obj", "t1.0.obj", "t2.obj", "t10.obj"]
+
+
+def test_npz_positions_are_named_or_refused(tmp_path):
+    (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    P = np.arange(18, dtype=float).reshape(2, 3, 3)
+    np.savez(tmp_path / "two.npz", velocities=np.zeros_like(P), frames=P)  # the first array was read before
+    with pytest.raises(ValueError, match=r"positions: '.*two\.npz' holds the arrays velocities, frames, none named "
+                                         r"'positions'"):
+        load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "two.npz"))
+    np.savez(tmp_path / "one.npz", frames=P)  # one array: it, named in the messages
+    _, got = load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "one.npz"))
+    assert np.array_equal(got, P)
+    np.savez(tmp_path / "pose.npz", frames=P[0])
+    with pytest.raises(ValueError, match=r"positions: expected a sequence of frames .* in '.*pose\.npz' array "
+                                         r"'frames', got one pose"):
+        load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "pose.npz"))
+    (tmp_path / "m.ply").write_text(PLY_HEAD.format(n=1) + "3 0 1 2\n")
+    with pytest.raises(ValueError, match=r"positions: '.*m\.ply' is not an \.npz or \.npy file"):
+        load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "m.ply"))
