@@ -154,3 +154,16 @@ def test_complex_positions_are_refused(tmp_path):
     np.savez(tmp_path / "c.npz", positions=np.full((2, 3, 3), 1j))
     with pytest.raises(ValueError, match="positions: expected real coordinates"):
         load_sequence(str(mesh), positions=str(tmp_path / "c.npz"))
+
+
+def test_cache_key_follows_the_core_for_simulated_scenes(monkeypatch):
+    """A simulated scene's self-contact runs the core's exact CCD every substep: another core
+    (any rebuild: its binary is hashed) gets another cache entry; a kinematic scene does not."""
+    from conecull.datasets import registry
+
+    simulated, kinematic = registry.SCENES["falling"], registry.SCENES["fold"]
+    assert simulated.effects and not kinematic.effects
+    before = registry._key(simulated, 10, 5), registry._key(kinematic, 10, 5)
+    monkeypatch.setattr(registry, "_core_digest", lambda: "another core")
+    after = registry._key(simulated, 10, 5), registry._key(kinematic, 10, 5)
+    assert after[0] != before[0] and after[1] == before[1]
