@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -121,7 +122,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
-        return _run(args)
+        with warnings.catch_warnings():  # the library's warnings (a mesh file's polygons split) as one line each
+            warnings.showwarning = lambda message, *_a, **_k: print(
+                f"conecull {args.command}: warning: {_as_option(str(message))}", file=sys.stderr)
+            return _run(args)
     except BrokenPipeError:  # the reader of our output left (`| head`): nothing to report
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())  # Python's own flush at exit would fail again

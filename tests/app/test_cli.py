@@ -377,3 +377,17 @@ def test_scenes_generate_checks_every_name_first(capsys, monkeypatch):
     monkeypatch.setattr(datasets, "load", lambda name, *a, **k: calls.append(name))
     assert main(["scenes", "--generate", "fold", "FOLD"]) == 2
     assert "NAME: unknown scene 'FOLD'" in capsys.readouterr().err and calls == []
+
+
+def test_library_warnings_are_one_line(tmp_path, capsys):
+    """A mesh file's polygons split into triangles: said once, as one line naming the command
+    (not a Python warning with its source line)."""
+    d = tmp_path / "quads"
+    d.mkdir()
+    for k in range(2):
+        (d / f"f{k}.obj").write_text(f"v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 {0.1 * k}\nf 1 2 3 4\n")
+    assert main(["check", str(d)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["conecull check: warning: INPUT: 1 face of 'f0.obj' with more than 3 corners was split into "
+                   "triangles (a fan from each face's first corner, in file order): triangle ids count these "
+                   "triangles, not the file's faces"]
