@@ -103,6 +103,9 @@ def load_scalable_step(data: Path, scene: str, step: str):
             boxes = json.load(f)
         with open(d / "mma_bool" / f"{step}{kind}_mma_bool.json") as f:
             flags = json.load(f)
+        if len(boxes) != len(flags):  # zip would drop the tail silently
+            raise ValueError(f"{d}: step {step} {kind}: {len(boxes)} candidate pairs in boxes/ but {len(flags)} "
+                             "flags in mma_bool/")
         out = set()
         for (i, j), hit in zip(boxes, flags):
             if not hit:
