@@ -48,6 +48,10 @@ def _triangles(faces: list, where, n_vertices: int, first: int = 0) -> tuple[np.
     of k - 2 triangles. Each face is checked first, where(k) naming face k in the messages (the
     rows of the triangles would not be the file's faces), with vertex ids shown counted from
     `first`, as the file counts them."""
+    if all(len(f) == 3 for f in faces):  # the usual case, checked at once (the loop names a bad face)
+        F = np.array(faces, dtype=np.int64).reshape(-1, 3)
+        if ((F >= 0) & (F < n_vertices)).all() and (F[:, [0, 1, 2]] != F[:, [1, 2, 0]]).all():
+            return F, 0
     out, polygons = [], 0
     for k, f in enumerate(faces):
         if len(f) < 3:
