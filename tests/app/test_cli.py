@@ -210,7 +210,7 @@ def test_cli_names_the_positions_file_and_frame(tmp_path, capsys):
             in capsys.readouterr().err)
     (tmp_path / "rep.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 1 2\n")
     assert main(["record", str(tmp_path / "rep.obj"), "--out", out]) == 2
-    assert "rep.obj: faces: row 0 repeats a vertex" in capsys.readouterr().err
+    assert "rep.obj: line 4 ('f 1 1 2'): a face repeats a vertex: [1, 1, 2]" in capsys.readouterr().err
 
 
 def test_record_unpadded_folder_in_numeric_order(tmp_path, capsys):
