@@ -77,6 +77,51 @@ def check_result(col, res) -> None:
         raise ValueError(f"res: comes from another collider ({problems[0]}); pass the result of a query of col itself")
 
 
+# The contour tests differ per method, though the trace fills the same fields for each: "nc" runs
+# Alg. 1 (a kernel point o, a ray r, its crossings), or the simplicity test; "sct" [SPO10] projects
+# the contour on the plane perpendicular to the cone axis, looks for o by a line search there,
+# then runs the star test on the projection; "cbc" [TCYM09] tests every pair of projected contour
+# edges, O(n^2): it has no kernel point, no ray, no star test (its trace reports the contour's
+# mean as "kernel", a zero ray and 0 crossings: they must not be shown as if tested).
+SCT_NAME = "sct, the projected star contour test of Schvartzman et al. 2010"
+CBC_NAME = "cbc, the quadratic edge-pair test of Tang et al. 2009"
+PASSED_SCT = ("the contour, projected on the plane perpendicular to the cone axis, is star-shaped around the "
+              "kernel point the line search found: no self-collision, culled")
+PASSED_CBC = ("no two edges of the contour, projected along the cone axis, meet (every pair proven apart): the "
+              "projected contour is a simple polygon, so no self-collision, culled")
+
+
+def contour_words(method: str, contour: dict, i: int) -> str:
+    """The verdict sentence of contour event i (trace.contour) of a query by `method`."""
+    code = int(contour["reason"][i])
+    if code == 0 and method == "cbc":
+        return PASSED_CBC
+    if code == 0 and method == "sct":
+        return PASSED_SCT
+    star_tried = bool(np.isfinite(contour["kernel"][i]).all())
+    return explain(code, contour["edge"][i], contour["crossings"][i], bool(contour["simple"][i]), star_tried)
+
+
+def contour_test_line(method: str, contour: dict, i: int, n_edges: int) -> str:
+    """What contour event i's test ran, in one line: only the quantities that method's test has."""
+    kernel = np.round(contour["kernel"][i], 6).tolist()
+    ray = np.round(contour["ray"][i], 4).tolist()
+    crossings = int(contour["crossings"][i])
+    if method == "cbc":
+        return (f"contour test ({CBC_NAME}): every pair of the contour's {n_edges} edges, projected along the cone "
+                f"axis, must be proven apart ({n_edges * (n_edges - 1) // 2} pairs); no kernel point, no ray")
+    if method == "sct" and int(contour["reason"][i]) == 6:
+        return (f"contour test ({SCT_NAME}): the contour's {n_edges} edges projected on the plane perpendicular to "
+                "the cone axis; the line search found no kernel point there, so no star test ran")
+    if method == "sct":
+        return (f"contour test ({SCT_NAME}): the contour's {n_edges} edges projected on the plane perpendicular to "
+                f"the cone axis; kernel point from the line search {kernel}, ray {ray} (the ray tested is "
+                f"its projection on that plane), crossings {crossings}")
+    if np.isfinite(contour["kernel"][i]).all():
+        return f"contour test: kernel point {kernel}, ray {ray}, crossings {crossings}"
+    return "contour test: the simplicity test, run first: it proved this node when last tested"
+
+
 def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
     """A few lines: where the node is, what was tested there, and the verdict in words.
     res: a traced query (trace=True) of col itself; node: a node id of col's BVH (node_name is
@@ -103,16 +148,12 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
     if len(contour_i):
         i = contour_i[0]
         code = int(tr.contour["reason"][i])
-        simple = bool(tr.contour["simple"][i])
-        star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
-        if code < 16 and star_tried:
-            lines.append(f"contour test: kernel point {np.round(tr.contour['kernel'][i], 6).tolist()}, "
-                         f"ray {np.round(tr.contour['ray'][i], 4).tolist()}, crossings {int(tr.contour['crossings'][i])}")
-        elif code < 16:
-            lines.append("contour test: the simplicity test, run first: it proved this node when last tested")
+        method = res.stats.get("method", col.method)
+        if code < 16:
+            n_edges = int(np.diff(col.contour_arrays()["offsets"])[node])
+            lines.append(contour_test_line(method, tr.contour, i, n_edges))
         verdict = "culled" if code == 0 else "not culled"
-        lines.append(f"verdict: {verdict}, {REASONS[code][0]}: "
-                     + explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], simple, star_tried) + ".")
+        lines.append(f"verdict: {verdict}, {REASONS[code][0]}: " + contour_words(method, tr.contour, i) + ".")
         return "\n".join(lines)
     # Not judged itself: say why.
     culled = set(tr.culled_nodes().tolist())
@@ -191,9 +232,7 @@ class Verdicts:
         i = self.contour_at.get(int(node))
         if i is not None:
             code = int(tr.contour["reason"][i])
-            star_tried = bool(np.isfinite(tr.contour["kernel"][i]).all())
-            why = explain(code, tr.contour["edge"][i], tr.contour["crossings"][i], bool(tr.contour["simple"][i]),
-                          star_tried)
+            why = contour_words(self.res.stats.get("method"), tr.contour, i)
             return code == 0, REASONS[code][0], why.removesuffix(", culled")
         i = self.cone_at.get(int(node))
         if i is not None and not tr.cone["bounded"][i]:

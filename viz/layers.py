@@ -141,8 +141,24 @@ def front_colors(load: np.ndarray) -> np.ndarray:
     return np.round((1 - f) * _FRONT_STOPS[i] + f * _FRONT_STOPS[i + 1]).astype(np.uint8)
 
 
+def status_legend() -> list[tuple[str, tuple]]:
+    """The key of the verdict colouring (face_colors): (name, colour) per face status."""
+    return [(name, tuple(int(c) for c in STATUS_COLORS[i])) for i, name in enumerate(STATUS_NAMES)]
+
+
+def front_legend(load: np.ndarray) -> list[tuple[str, tuple]]:
+    """The key of front_colors(load): no entry, one entry, a load between and the frame's maximum
+    (the ramp is logarithmic and scaled to that maximum, so the key is per frame)."""
+    top = int(np.max(load)) if len(load) else 0
+    keys = [0] + sorted({1, int(round(np.sqrt(top))), top} - {0}) if top > 0 else [0]
+    words = {0: "no front entry", 1: "1 front entry"}
+    names = [words.get(k, f"{k} entries") + (" (most at this frame)" if k == top and k > 0 else "") for k in keys]
+    return [(n, tuple(int(c) for c in rgb)) for n, rgb in zip(names, front_colors(np.array(keys)))]
+
+
 def reason_legend() -> list[tuple[str, tuple]]:
     return [(REASONS[c][0], REASON_COLORS[c]) for c in sorted(REASON_COLORS) if c in REASONS]
 
 
-__all__ = ["compute", "front_colors", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS", "REASON_COLORS", "reason_name", "node_sentence"]
+__all__ = ["compute", "front_colors", "front_legend", "status_legend", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS",
+           "REASON_COLORS", "reason_name", "node_sentence"]

@@ -27,6 +27,7 @@ from conecull.viz.checks import check_host_port, check_method, url_host
 from conecull.viz.explain import explain_face, explain_node
 
 HIGHLIGHT = (30, 90, 255)
+PARTNER = (20, 20, 20)  # the triangles the clicked one collides with (HIGHLIGHT: the clicked one)
 
 
 def ray_triangle_hit(origin, direction, tri: np.ndarray):
@@ -68,6 +69,31 @@ def box_segments(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return np.concatenate([pts[:, [a, b]] for a, b in edges], axis=0).reshape(-1, 2, 3)
 
 
+def triangle_outlines(tri: np.ndarray, lift: float) -> np.ndarray:
+    """(k * 6, 2, 3) edges of k triangles (k, 3, 3), drawn `lift` above and below each face (along
+    its normal): on the face itself the mesh would hide them from one side or z-fight them."""
+    n = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    edges = np.stack([tri, tri[:, [1, 2, 0]]], axis=2)  # (k, 3 edges, 2 ends, 3)
+    return np.concatenate([edges + s * lift * n[:, None, None] for s in (1.0, -1.0)]).reshape(-1, 2, 3)
+
+
+def two_sided_mesh(V: np.ndarray, faces: np.ndarray, face_colors: np.ndarray) -> trimesh.Trimesh:
+    """The mesh exploded (3 vertices per face, so each face keeps its own colour), each face twice,
+    once per winding: the GLB carries no material, so the browser draws front faces only, and the
+    underside of a folded flap would be missing (see-through)."""
+    tri = V[faces]
+    both = np.concatenate([tri, tri[:, ::-1]]).reshape(-1, 3)
+    colors = np.repeat(np.concatenate([face_colors, face_colors]), 3, axis=0)
+    return trimesh.Trimesh(vertices=both, faces=np.arange(len(both)).reshape(-1, 3), vertex_colors=colors,
+                           process=False)
+
+
+def legend_markdown(keys) -> str:
+    """(name, rgb) pairs as one line of coloured squares."""
+    return " · ".join(f"<span style='color:rgb{tuple(int(c) for c in rgb)}'>■</span> {name}" for name, rgb in keys)
+
+
 def strip_segments(strips) -> np.ndarray:
     if not strips:
         return np.zeros((0, 2, 3))
@@ -92,6 +118,9 @@ class ViewerApp:
             self.colliders[m] = col
         self.max_depth = int(self.colliders[method].bvh_arrays()["depth"].max())
         self.selected_face: int | None = None
+        self.selection: dict = {}  # per-node drawings (selected node, clicked triangles): name -> handle
+        self.queried_at = dict.fromkeys(self.colliders, 0)  # the frame each collider last answered (fronts)
+        self._note = ""  # a refused control value, said in the stats panel with the next frame drawn
         self._lock = threading.Lock()
         self._stop = threading.Event()
 
@@ -100,19 +129,17 @@ class ViewerApp:
         self.port = self.server.get_port()
         gui = self.server.gui
         gui.add_markdown("**conecull** — why each region was culled or not")
-        self.frame = gui.add_slider("frame", min=0, max=max(1, len(self.frames) - 1), step=1, initial_value=0)
+        self.frame = gui.add_slider("frame", min=0, max=len(self.frames) - 1, step=1, initial_value=0)
         self.play = gui.add_checkbox("play", initial_value=False)
         self.method = gui.add_dropdown("method", list(conecull.METHODS), initial_value=method)
-        self.depth = gui.add_slider("BVH depth", min=0, max=max(1, self.max_depth), step=1, initial_value=min(4, self.max_depth))
+        self.depth = gui.add_slider("BVH depth", min=0, max=self.max_depth, step=1, initial_value=min(4, self.max_depth))
         with gui.add_folder("layers"):
             self.show_mesh = gui.add_checkbox("mesh", initial_value=True)
             self.colour_by = gui.add_dropdown("mesh colour", ["verdict", "front load"], initial_value="verdict")
             self.show_contours = gui.add_checkbox("failing contours", initial_value=True)
             self.show_cones = gui.add_checkbox("cone axes", initial_value=False)
             self.show_boxes = gui.add_checkbox("BVH boxes at depth", initial_value=False)
-        legend = " · ".join(f"<span style='color:rgb{tuple(int(c) for c in L.STATUS_COLORS[i])}'>■</span> {n}"
-                            for i, n in enumerate(L.STATUS_NAMES))
-        gui.add_markdown(legend)
+        self.legend_md = gui.add_markdown(legend_markdown(L.status_legend()))  # follows the colouring shown
         self.stats_md = gui.add_markdown("")
         with gui.add_folder("methods at this frame"):
             self.compare = gui.add_checkbox("compare all methods", initial_value=False)
@@ -123,6 +150,10 @@ class ViewerApp:
         for handle in (self.frame, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
                        self.show_cones, self.show_boxes, self.compare):
             handle.on_update(lambda _event: self._update_or_show_error())
+        # A click anywhere in the scene, then our own ray test on the shown pose: a click binding
+        # on the mesh would make viser outline it when hovered, in yellow, on its back faces
+        # (whole flaps of a folded sheet), which reads as "cone too wide".
+        self.server.scene.on_click()(self._on_click)
         self.update()
         self._player = threading.Thread(target=self._play_loop, daemon=True)
         self._player.start()
@@ -150,24 +181,43 @@ class ViewerApp:
             traceback.print_exc()
             self.stats_md.content = f"**error while drawing this frame** ({type(e).__name__}: {e}); please report it"
 
+    def _in_range(self, handle, hi: int, what: str) -> int | None:
+        """handle's value if in 0..hi; else None, after noting the refusal and setting the handle to
+        the nearest valid value (which draws that): a slider's number box sends each keystroke
+        unclamped (99, -1), and -1 would index from the end."""
+        v = handle.value
+        if float(v).is_integer() and 0 <= v <= hi:
+            return int(v)
+        near = int(min(max(round(float(v)), 0), hi)) if np.isfinite(float(v)) else 0
+        self._note += f"**{what} {v} refused**: {what}s are 0..{hi}; showing {near}. "
+        handle.value = near  # differs from v: viser calls the handle's callbacks, which draw it
+        return None
+
     def update(self):
+        k = self._in_range(self.frame, len(self.frames) - 1, "frame")
+        d = self._in_range(self.depth, self.max_depth, "BVH depth")
+        if k is None or d is None:
+            return  # set back into range, which drew the frame
         with self._lock:
-            k = int(self.frame.value)
+            self.k, self.d = k, d
             V = self.frames[k]
-            res = self.col.dcd(V, trace=True)
+            m = self.method.value  # once: the dropdown may change while this frame is drawn
+            col = self.colliders[m]
+            since = self.queried_at[m]
+            res = col.dcd(V, trace=True)
+            self.queried_at[m] = k
             self.res, self.V = res, V
-            lay = L.compute(self.col, self.faces, V, res)
+            lay = L.compute(col, self.faces, V, res)
             scene = self.server.scene
             with self.server.atomic():
-                exploded = V[self.faces].reshape(-1, 3)
                 # "front load": how many BVTT front entries reach each face (front methods, Alg. 4)
-                by_front = self.colour_by.value == "front load" and self.method.value.endswith("+front")
-                face_colors = L.front_colors(self.col.front_load("dcd")) if by_front else lay.face_colors
+                by_front = self.colour_by.value == "front load" and m.endswith("+front")
+                load = col.front_load("dcd") if by_front else None
+                face_colors = L.front_colors(load) if by_front else lay.face_colors
                 self.face_colors = face_colors
-                tm = trimesh.Trimesh(vertices=exploded, faces=np.arange(len(exploded)).reshape(-1, 3),
-                                     vertex_colors=np.repeat(face_colors, 3, axis=0), process=False)
-                handle = scene.add_mesh_trimesh("/mesh", tm, visible=bool(self.show_mesh.value))
-                handle.on_click(self._on_click)
+                self.legend_md.content = legend_markdown(L.front_legend(load) if by_front else L.status_legend())
+                scene.add_mesh_trimesh("/mesh", two_sided_mesh(V, self.faces, face_colors),
+                                       visible=bool(self.show_mesh.value))
                 segs = strip_segments(lay.contour_strips)
                 colors = np.repeat(np.array([L.REASON_COLORS[int(c)] for c in lay.contour_reasons], np.uint8).reshape(-1, 3),
                                    [len(s) - 1 for s in lay.contour_strips], axis=0) if len(segs) else np.zeros((0, 3), np.uint8)
@@ -177,36 +227,53 @@ class ViewerApp:
                 cone_col = np.where(lay.cone_bounded[:, None], [[80, 175, 95]], [[235, 195, 60]]).astype(np.uint8)
                 scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), cone_col.reshape(-1, 3),
                                  shaft_radius=0.002, head_radius=0.006, head_length=0.012, visible=bool(self.show_cones.value))
-                bvh = self.col.bvh_arrays()
-                sel = np.flatnonzero(bvh["depth"] == int(self.depth.value))
+                bvh = col.bvh_arrays()
+                sel = np.flatnonzero(bvh["depth"] == d)
                 scene.add_line_segments("/bvh", box_segments(bvh["box"][sel, 0], bvh["box"][sel, 1]), (120, 120, 200),
                                         thickness=1.0, thickness_units="screen", visible=bool(self.show_boxes.value))
-                s = res.stats
-                self.stats_md.content = (
-                    f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
-                    f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
-                    f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**"
-                    + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']}, "
-                       f"{s['front_rested']} nodes resting)"
-                       if self.method.value.endswith("+front") else "")
-                    + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
-                       and not self.method.value.endswith("+front") else ""))
+                note, self._note = self._note, ""
+                self.stats_md.content = note + self._stats_line(k, res.stats, since)
                 self._draw_selection()
-            self.compare_md.content = self._compare_table(V) if self.compare.value else ""
+            self.compare_md.content = self._compare_table(k, V) if self.compare.value else ""
 
-    def _compare_table(self, V) -> str:
+    def _stats_line(self, k: int, s: dict, since: int) -> str:
+        front = s["method"].endswith("+front")
+        # A front method resumes the front its previous query left (Alg. 4): its counters are
+        # relative to the frame that query was at, not only to this frame.
+        return (f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
+                f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
+                f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**"
+                + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']} "
+                   f"{self._since(since, k)}; {s['front_rested']} nodes resting)" if front else "")
+                + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
+                   and not front else ""))
+
+    @staticmethod
+    def _since(since: int, k: int) -> str:
+        """Whence a front method's front came: the frame of that collider's previous query."""
+        kept = "the front is kept between queries, so this depends on the frame shown before"
+        return f"since frame {since}, {kept}" if since != k else f"since frame {k} itself (a re-query of this pose)"
+
+    def _compare_table(self, k: int, V) -> str:
         """Every method's untraced query at this pose: contour-test time (the contour tests of
-        Fig. 9, per method) and the counters. Each method has its own collider (its own front)."""
-        rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms |",
-                "|---|---|---|---|---|---|"]
+        Fig. 9, per method) and the counters. Each method has its own collider (its own front);
+        the front methods' rows resume the front of that collider's previous query, for the shown
+        method a query of this very pose: the last column says which."""
+        rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms | front from |",
+                "|---|---|---|---|---|---|---|"]
         for m, col in self.colliders.items():
+            since = self.queried_at[m]
             res, ms = timed_query(col, V)
+            self.queried_at[m] = k
             s = res.stats
+            front = ("—" if not m.endswith("+front") else
+                     f"frame {since}" if since != k else f"frame {k}: re-query of this pose")
             rows.append(f"| {m} | {s['contour_tests']} | {s['contour_passed']} | {1e3 * s['seconds_contour']:.3f} | "
-                        f"{s['elementary_tests']} | {ms:.1f} |")
+                        f"{s['elementary_tests']} | {ms:.1f} | {front} |")
         return "\n".join(rows)
 
     def _on_click(self, event):
+        """A click in the scene (SceneClickEvent): select the shown mesh's triangle under it, if any."""
         face = ray_triangle_hit(event.ray_origin, event.ray_direction, self.V[self.faces])
         if face is None:
             return
@@ -222,38 +289,58 @@ class ViewerApp:
             self.selected_face = face
             self._draw_selection()
 
+    def _clear_selection(self):
+        """Remove every per-node drawing: each query (frame, method, depth) or click draws its own."""
+        for handle in self.selection.values():
+            handle.remove()
+        self.selection = {}
+
+    def _draw(self, kind: str, name: str, *args, **kwargs):
+        self.selection[name] = getattr(self.server.scene, kind)(name, *args, **kwargs)
+
     def _draw_selection(self):
-        scene = self.server.scene
+        self._clear_selection()
         if self.selected_face is None:
             return
         # The collider that answered the shown query: the method dropdown may already be ahead of it.
         col = self.res.collider() or self.col
         bvh = col.bvh_arrays()
-        node = node_at_depth(bvh, self.selected_face, int(self.depth.value))
+        node = node_at_depth(bvh, self.selected_face, self.d)
         text = explain_node(col, self.res, node)
         pairs = self.res.pairs
-        if len(pairs) and ((pairs[:, 0] == self.selected_face) | (pairs[:, 1] == self.selected_face)).any():
+        mine = pairs[(pairs[:, 0] == self.selected_face) | (pairs[:, 1] == self.selected_face)] if len(pairs) else pairs
+        self._draw_triangles(np.setdiff1d(mine, [self.selected_face]))
+        if len(mine):
             # A colliding triangle: with which, and why no node holding both was culled (the
             # node at the chosen depth alone may be culled: the pair lies across two of them).
             text = (explain_face(col, self.res, self.selected_face, limit=3)
                     + f"\nThe node at the chosen depth, {node}, holds this triangle; its verdict (below) is about "
                       "collisions among its own triangles only.\n" + text)
-        self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {int(self.frame.value)})\n\n" + \
+        marked = (f" · outlined on the mesh: it in blue, the {len(np.unique(mine)) - 1} it collides with in black"
+                  if len(mine) else " · outlined in blue on the mesh")
+        self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {self.k}){marked}\n\n" + \
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()
         loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
         if len(loop):
             pts = self.V[np.append(loop, loop[0])]
-            scene.add_line_segments("/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
-                                    thickness=4.0, thickness_units="screen")
-        else:
-            scene.add_line_segments("/selected/contour", np.zeros((0, 2, 3)), HIGHLIGHT)
+            self._draw("add_line_segments", "/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
+                       thickness=4.0, thickness_units="screen")
         cones = col.cone_arrays()
         if len(cones["axis"]) > node:
             c = 0.5 * (bvh["box"][node, 0] + bvh["box"][node, 1])
             size = float(np.linalg.norm(bvh["box"][node, 1] - bvh["box"][node, 0]))
-            scene.add_arrows("/selected/cone", np.array([[c, c + cones["axis"][node] * 0.6 * size]]), HIGHLIGHT,
-                             shaft_radius=0.004, head_radius=0.012, head_length=0.02)
+            self._draw("add_arrows", "/selected/cone", np.array([[c, c + cones["axis"][node] * 0.6 * size]]),
+                       HIGHLIGHT, shaft_radius=0.004, head_radius=0.012, head_length=0.02)
+
+    def _draw_triangles(self, partners: np.ndarray):
+        """Outline the clicked triangle (HIGHLIGHT) and those it collides with (PARTNER)."""
+        lift = 1e-3 * float(np.linalg.norm(np.ptp(self.V, axis=0)))
+        for name, faces, color in (("/selected/triangle", [self.selected_face], HIGHLIGHT),
+                                   ("/selected/partners", partners, PARTNER)):
+            if len(faces):
+                self._draw("add_line_segments", name, triangle_outlines(self.V[self.faces[faces]], lift), color,
+                           thickness=3.0, thickness_units="screen")
 
     def close(self):
         self._stop.set()

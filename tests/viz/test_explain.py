@@ -284,3 +284,69 @@ def test_a_pair_not_colliding_says_whether_it_was_tested():
     text = explain_pair(col, ccd, g, f)
     if "do not touch" in text:
         assert "tests between them ran and found no contact" in text
+
+
+def _fold_node(method, frame=28, node=1665):
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    col.dcd(P[0])
+    return explain_node(col, col.dcd(P[frame], trace=True), node)
+
+
+def test_cbc_is_explained_as_its_edge_pair_test():
+    """cbc ([TCYM09]) tests every pair of projected contour edges: no kernel point, no ray, no star
+    test. Its trace reports the contour's mean as "kernel", a zero ray and 0 crossings, which were
+    shown as if tested ("kernel point [...], ray [0, 0, 0], crossings 0 ... star-shaped")."""
+    text = _fold_node("cbc")
+    assert "contour test (cbc, the quadratic edge-pair test of Tang et al. 2009): every pair of the contour's 32 " \
+           "edges, projected along the cone axis, must be proven apart (496 pairs); no kernel point, no ray" in text
+    assert "verdict: culled, passed: no two edges of the contour, projected along the cone axis, meet" in text
+    assert "kernel point [" not in text and "ray [" not in text and "crossings" not in text and "star" not in text
+    # A failure names the edge pair test too (crumple's last frame has one).
+    F, P = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F), method="cbc")
+    col.dcd(P[0])
+    res = col.dcd(P[-1], trace=True)
+    node = int(res.trace.contour["node"][res.trace.contour["reason"] == 7][0])
+    text = explain_node(col, res, node)
+    assert "quadratic edge-pair test" in text and "verdict: not culled, edges_may_overlap: cbc: contour edge" in text
+    assert "kernel point [" not in text and "star" not in text
+
+
+def test_sct_is_explained_as_its_projected_star_test():
+    """sct ([SPO10]) projects the contour on the plane perpendicular to the cone axis, finds a kernel
+    point there by a line search and runs the star test: its kernel point, ray and crossings are
+    shown, as that method's; where the line search found none, no star test is claimed."""
+    text = _fold_node("sct")
+    assert "contour test (sct, the projected star contour test of Schvartzman et al. 2010): the contour's 32 edges " \
+           "projected on the plane perpendicular to the cone axis; kernel point from the line search [" in text
+    assert "crossings 1" in text
+    assert "verdict: culled, passed: the contour, projected on the plane perpendicular to the cone axis, is " \
+           "star-shaped around the kernel point the line search found" in text
+    F, P = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F), method="sct")
+    col.dcd(P[0])
+    res = col.dcd(P[-1], trace=True)
+    node = int(res.trace.contour["node"][res.trace.contour["reason"] == 6][0])
+    text = explain_node(col, res, node)
+    assert "the line search found no kernel point there, so no star test ran" in text
+    assert "kernel point [" not in text and "crossings" not in text
+    assert "verdict: not culled, no_kernel_on_search_line" in text
+    # nc's Alg. 1 keeps its own line
+    assert "contour test: kernel point [" in _fold_node("nc")
+
+
+@pytest.mark.parametrize("method", ["sct", "cbc"])
+def test_triage_sentences_use_the_method_s_own_test(method):
+    """The triage sentences (explain_face, the viewer's panel) name a culled node's verdict in the
+    method's own words, not Alg. 1's star test."""
+    F, P = load_sequence("fold")
+    col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    col.dcd(P[0])
+    res = col.dcd(P[28], trace=True)
+    bvh = col.bvh_arrays()
+    culled = int(res.trace.culled_nodes()[0])
+    a, b = (int(x) for x in bvh["order"][[bvh["begin"][culled], bvh["end"][culled] - 1]])
+    text = explain_pair(col, res, a, b)
+    want = {"sct": "star-shaped around the kernel point the line search found", "cbc": "every pair proven apart"}
+    assert want[method] in text and "projects to a star-shaped polygon" not in text

@@ -1,4 +1,5 @@
-"""The viser app's server side (no browser): the front-load colouring, the methods table."""
+"""The viser app's server side (no browser): the front-load colouring, the methods table, the
+bounded inputs, the per-node drawings, the legend."""
 
 import numpy as np
 
@@ -101,7 +102,8 @@ def test_viewer_compares_methods_at_the_frame():
 
 def test_viewer_says_what_a_clicked_colliding_triangle_collides_with():
     """Clicking a colliding triangle names its partners and why no node holding both was culled;
-    the node at the chosen depth alone (here culled: the pair lies across two nodes) follows."""
+    the node at the chosen depth alone (here culled: the pair lies across two nodes) follows. The
+    triangle and its partners are outlined on the mesh until the next click or frame."""
     from conecull.datasets.inputs import load_sequence
     from conecull.viz.viser_app import ViewerApp
 
@@ -114,8 +116,24 @@ def test_viewer_says_what_a_clicked_colliding_triangle_collides_with():
         text = app.panel.content
         assert f"triangle {i} takes part in" in text and f"triangles {i} and {j} intersect" in text
         assert "was not culled" in text and "verdict:" in text
+        # ... and marks them on the mesh: the clicked triangle and its partners, outlined on both
+        # sides of each face (6 segments a triangle).
+        partners = np.setdiff1d(app.res.pairs[(app.res.pairs == i).any(axis=1)], [i])
+        assert j in partners
+        assert f"outlined on the mesh: it in blue, the {len(partners)} it collides with in black" in text
+        for name, faces in (("/selected/triangle", [i]), ("/selected/partners", partners)):
+            pts = app.server.scene._handle_from_node_name[name].points
+            assert pts.shape == (6 * len(faces), 2, 3)
+            corners = frames[28][F[faces]].reshape(-1, 3)
+            assert np.abs(pts.reshape(-1, 1, 3) - corners[None]).sum(axis=2).min(axis=1).max() < 1e-2
+        partner_handle = app.server.scene._handle_from_node_name["/selected/partners"]
         app.select_face(int(np.setdiff1d(np.arange(len(F)), app.res.pairs)[0]))
         assert "takes part in" not in app.panel.content
+        assert partner_handle._impl.removed and "/selected/partners" not in app.selection
+        assert "/selected/triangle" in app.selection
+        app.select_face(i)
+        app.frame.value = 0  # no collisions there: the partners' outlines go
+        assert "/selected/partners" not in app.selection and _node(app, "/selected/partners") is None
     finally:
         app.close()
 
@@ -145,5 +163,159 @@ def test_viewer_shows_an_error_and_keeps_playing(monkeypatch):
         while (int(app.frame.value) == start or "error" in app.stats_md.content) and time.time() < deadline:
             time.sleep(0.05)  # the value changes before its callback has drawn the frame
         assert int(app.frame.value) != start and "error" not in app.stats_md.content
+    finally:
+        app.close()
+
+
+def _fold_app(method="nc"):
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("fold")
+    return ViewerApp(F, frames, port=free_port(), method=method), F, frames
+
+
+def test_frame_and_depth_inputs_are_bounded():
+    """The number boxes are bounded (min/max) and a value outside them, which a slider's number box
+    sends anyway (each keystroke: 99, -1), is set back to the nearest valid one, said with the
+    valid range in the stats panel; it never reaches indexing (99 raised IndexError, -1 showed
+    frame 29 labelled frame -1)."""
+    app, F, frames = _fold_app()
+    try:
+        assert (app.frame.min, app.frame.max) == (0, len(frames) - 1) == (0, 29)
+        assert (app.depth.min, app.depth.max) == (0, app.max_depth)
+        for typed, shown in ((99, 29), (-1, 0), (255, 29)):
+            app.frame.value = typed
+            assert int(app.frame.value) == shown and app.k == shown and np.array_equal(app.V, frames[shown])
+            content = app.stats_md.content
+            assert f"frame {typed} refused**: frames are 0..29; showing {shown}" in content, content
+            assert f"frame **{shown}**" in content and "error" not in content
+        app.frame.value = 5
+        assert "refused" not in app.stats_md.content  # said once
+        for typed, shown in ((99, app.max_depth), (-3, 0)):
+            app.depth.value = typed
+            assert int(app.depth.value) == shown == app.d
+            assert f"BVH depth {typed} refused**: BVH depths are 0..{app.max_depth}" in app.stats_md.content
+        # A value that reached the handle without its setter (as a client's update does, before
+        # the callbacks run) is refused by update() itself.
+        app.frame._impl.value = -1
+        app.update()
+        assert int(app.frame.value) == 0 and app.k == 0 and "frame -1 refused" in app.stats_md.content
+    finally:
+        app.close()
+
+
+def _node(app, name):
+    handle = app.server.scene._handle_from_node_name.get(name)
+    return None if handle is None or handle._impl.removed else handle
+
+
+def test_per_node_drawings_follow_method_frame_and_depth():
+    """The selected node's cone arrow and contour are redrawn for each query and removed where the
+    shown method has none: a method without normal cones (aabb, aabb+front) left nc's arrow on
+    screen while its panel said it uses no normal cones."""
+    app, F, frames = _fold_app()
+    try:
+        app.depth.value = 0
+        app.select_face(0)
+        arrow = _node(app, "/selected/cone")
+        assert arrow is not None and _node(app, "/selected/contour") is not None
+        for method in ("aabb", "aabb+front"):
+            app.method.value = method
+            assert "uses no normal cones" in app.panel.content
+            assert _node(app, "/selected/cone") is None, method
+        app.method.value = "nc"
+        assert _node(app, "/selected/cone") is not None and _node(app, "/selected/cone") is not arrow
+        app.frame.value = 28
+        app.depth.value = app.max_depth  # a leaf: one triangle, no contour of its own drawn twice
+        assert set(app.selection) <= {"/selected/cone", "/selected/contour", "/selected/triangle", "/selected/partners"}
+        assert all(_node(app, n) is h for n, h in app.selection.items())
+    finally:
+        app.close()
+
+
+def test_mesh_has_no_hover_outline_and_both_sides():
+    """The yellow flap: viser outlines a mesh with a click binding while the pointer is over it, in
+    yellow (0xfbff00), by drawing the mesh's back faces pushed out; the GLB has no material, so the
+    mesh's own back faces are not drawn and a folded flap seen from below turned all yellow (until
+    the mesh was re-added, which reset the hover). The mesh has no click binding now (a scene click
+    and our ray test select), and each face is drawn with both windings."""
+    import io
+
+    import trimesh
+
+    app, F, frames = _fold_app()
+    try:
+        app.frame.value = 28
+        mesh = _node(app, "/mesh")
+        assert not mesh._impl.click_cb
+        tm = trimesh.load(io.BytesIO(mesh._impl.props.glb_data), file_type="glb", force="mesh", process=False)
+        assert len(tm.faces) == 2 * len(F)
+        tri = tm.vertices[tm.faces]
+        assert np.allclose(tri[len(F):], tri[: len(F), ::-1], atol=1e-6)  # the same faces, reversed
+        # A click in the scene selects the triangle under it.
+        clicks = [e.callback for e in app.server.scene._scene_pointer_cb if e.event_type == "click"]
+        assert len(clicks) == 1
+        face = 100
+        c = frames[28][F[face]].mean(axis=0)
+        n = np.cross(*(frames[28][F[face]][1:] - frames[28][F[face]][0]))
+        origin = c + 0.01 * n / np.linalg.norm(n)
+        from types import SimpleNamespace
+        clicks[0](SimpleNamespace(ray_origin=tuple(origin), ray_direction=tuple(c - origin)))
+        assert app.selected_face == face and app.panel.content.startswith(f"triangle {face} → node")
+    finally:
+        app.close()
+
+
+def test_legend_matches_the_colouring():
+    """Front-load colouring shows its own key (the load ramp at this frame), not the verdicts'
+    (whose yellow is "cone too wide"); back to verdicts, or a method without a front, the
+    verdict key."""
+    from conecull.viz import layers as L
+
+    app, F, frames = _fold_app("nc+front")
+    try:
+        app.frame.value = 29
+        assert "cone too wide" in app.legend_md.content
+        app.colour_by.value = "front load"
+        top = int(app.col.front_load().max())
+        assert "cone too wide" not in app.legend_md.content and "no front entry" in app.legend_md.content
+        assert f"{top} entries (most at this frame)" in app.legend_md.content
+        # every key colour is one the mesh can show for that load
+        for load, (_, rgb) in zip([0, 1], L.front_legend(app.col.front_load())):
+            assert tuple(L.front_colors(np.array([load, top]))[0]) == rgb
+        app.method.value = "nc"
+        assert "cone too wide" in app.legend_md.content and "no front entry" not in app.legend_md.content
+    finally:
+        app.close()
+
+
+def test_front_counters_say_which_frame_the_front_came_from():
+    """A front method's counters (+added / -removed) are relative to the front its previous query
+    left: the stats say from which frame, and they are those of a fresh collider fed the same
+    frames; the compare table's front rows say whence their front came, a re-query of the same
+    pose for the shown method."""
+    import conecull
+
+    app, F, frames = _fold_app("nc+front")
+    try:
+        app.frame.value = 28
+        assert "since frame 0, the front is kept between queries" in app.stats_md.content
+        app.frame.value = 29
+        content = app.stats_md.content
+        assert "since frame 28, the front is kept between queries" in content
+        col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method="nc+front")
+        for k in (0, 0, 28):
+            col.dcd(frames[k])
+        s = col.dcd(frames[29]).stats
+        assert f"(+{s['front_added']} / -{s['front_removed']} since frame 28" in content
+        app.compare.value = True
+        rows = {r.split("|")[1].strip(): r.split("|")[-2].strip() for r in app.compare_md.content.splitlines()[2:]}
+        assert rows["nc+front"] == "frame 29: re-query of this pose" and rows["aabb+front"] == "frame 0"
+        assert rows["nc"] == rows["sct"] == "—"
+        app.frame.value = 27
+        assert "since frame 29" in app.stats_md.content  # the compare table's re-query at 29 was the last
+        rows = {r.split("|")[1].strip(): r.split("|")[-2].strip() for r in app.compare_md.content.splitlines()[2:]}
+        assert rows["aabb+front"] == "frame 29"
     finally:
         app.close()

@@ -1,6 +1,7 @@
 """Browser test of the viser app: Playwright driving Debian's chromium (never `playwright
-install`). Start the app on a free port, change the frame, click the mesh, check that the
-selection panel changed, save a screenshot, close everything."""
+install`). Start the app on a free port, type an out-of-range frame (set back into range), change
+the frame, click the mesh, check that the selection panel changed and that the mesh under the
+pointer is not outlined in yellow, save a screenshot, close everything."""
 
 import os
 import shutil
@@ -54,8 +55,14 @@ def test_viewer_in_browser(tmp_path):
                 page.wait_for_selector("canvas", timeout=30000)
                 page.get_by_text("Click the mesh to select").wait_for(timeout=30000)
                 wait_for(lambda: len(app.server.get_clients()) > 0, what="a client")
-                # Change the frame by typing into the slider's number input.
+                # Change the frame by typing into the slider's number input: the box sends what is
+                # typed, unclamped; the server sets it back into range and says so.
                 frame_box = page.locator("input.mantine-NumberInput-input").first  # the frame slider's number box
+                frame_box.fill("99")
+                wait_for(lambda: int(app.frame.value) == 29 and "frame 99 refused" in app.stats_md.content,
+                         what="frame 99 set back to 29")
+                wait_for(lambda: frame_box.input_value() == "29", what="the box showing 29")
+                assert "error" not in app.stats_md.content
                 frame_box.fill("29")
                 frame_box.press("Enter")
                 wait_for(lambda: int(app.frame.value) == 29, what="frame 29 on the server")
@@ -86,6 +93,21 @@ def test_viewer_in_browser(tmp_path):
                 shot = tmp_path / "viser.png"
                 page.screenshot(path=str(shot))
                 assert shot.stat().st_size > 10000
+                # The pointer on the mesh: viser's hover outline (yellow 0xfbff00, drawn on back faces,
+                # so whole flaps of the folded sheet) must not show; no face colour is that yellow.
+                from PIL import Image
+
+                page.mouse.move(box["x"] + box["width"] / 2 + 3, box["y"] + box["height"] / 2)
+                page.mouse.move(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+                time.sleep(0.5)
+                page.evaluate("() => new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
+                hover = tmp_path / "hover.png"
+                page.screenshot(path=str(hover))
+                rgb = np.asarray(Image.open(hover).convert("RGB")).astype(int)
+                x, y = int(box["x"]), int(box["y"])
+                scene = rgb[y + 150 : y + 650, x + 320 : x + 650]  # around the sheet, left of the panel
+                yellow = (scene[..., 0] > 200) & (scene[..., 1] > 200) & (scene[..., 2] < 110)
+                assert yellow.sum() < 50, f"{int(yellow.sum())} hover-outline yellow pixels"
                 if os.environ.get("CONECULL_SCREENSHOT_DIR"):
                     shutil.copy(shot, os.path.join(os.environ["CONECULL_SCREENSHOT_DIR"], "viser.png"))
             finally:
