@@ -117,9 +117,12 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
                                            int(code), int(e), int(c)))
     for node in bad_cone:
         sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone"))
+    kernels = tr.contour["kernel_end"][fail]
+    if res.stats.get("method") == "cbc":  # its edge-pair test has no kernel point nor ray (the trace's are fillers)
+        kernels, proj = np.full_like(kernels, np.nan), np.full_like(proj, np.nan)
     return FrameLayers(
         face_status=status, face_colors=STATUS_COLORS[status], contour_nodes=cnodes, contour_strips=strips,
-        contour_reasons=tr.contour["reason"][fail], kernels=tr.contour["kernel_end"][fail], rays=proj,
+        contour_reasons=tr.contour["reason"][fail], kernels=kernels, rays=proj,
         cone_nodes=cone_nodes, cone_origins=centers.reshape(-1, 3), cone_vectors=vecs, cone_bounded=bounded,
         sentences=sentences,
     )

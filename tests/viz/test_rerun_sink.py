@@ -328,3 +328,19 @@ def test_a_bvh_depth_deeper_than_the_bvh_is_refused(tmp_path):
     with pytest.raises(ValueError, match=r"bvh_depth: 30 is deeper than this mesh's BVH, whose nodes are at depths 0\.\.\d+"):
         record(str(tmp_path / "x.rrd"), F, frames, bvh_depth=30)
     assert not os.path.exists(tmp_path / "x.rrd")
+
+
+def test_cbc_failures_draw_no_kernel_point():
+    """cbc's edge-pair test has no kernel point and no ray (its trace fills them with the contour's
+    mean and a zero ray): its failing contours are drawn without them, nc's with them."""
+    import conecull
+    from conecull.viz import layers as L
+
+    F, P = load_sequence("crumple")
+    for method in ("cbc", "nc"):
+        col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]), method=method)
+        col.dcd(P[0])
+        lay = L.compute(col, F, P[26], col.dcd(P[26], trace=True))
+        assert len(lay.kernels) > 0
+        drawn = np.isfinite(lay.kernels).all(axis=1)
+        assert (not drawn.any()) if method == "cbc" else drawn.any(), method
