@@ -46,6 +46,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--host", default="127.0.0.1", help="address to bind (default 127.0.0.1; 0.0.0.0: all interfaces)")
     p.add_argument("--method", choices=list(METHODS), default="nc", help="culling method shown first; the viewer "
                    "switches between all (default nc)")
+    p.add_argument("--ccd", action="store_true", help="start with CCD steps (frame k shows the step from frame k to "
+                   "k + 1); the viewer switches between DCD and CCD")
 
     p = sub.add_parser("explain", help="why a BVH node was culled or not, or why a triangle or a pair of triangles "
                                        "collides or was never tested, at one frame (or, with --ccd, one step)")
@@ -142,7 +144,7 @@ INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames 
 # the CLI passes its options' values to them, so it names the option the user typed.
 OPTION_OF = {"positions": "--positions", "resolution": "--resolution", "method": "--method",
              "arithmetic": "--arithmetic", "frame_range": "--frames", "bvh_depth": "--depth", "skip": "--skip",
-             "threads": "--threads"}
+             "threads": "--threads", "ccd": "--ccd"}
 
 
 def _as_option(message: str) -> str:
@@ -367,13 +369,17 @@ def _run(args) -> int:
                   f"away: {_explain_command(args, what)}")
         return 0
     if args.command == "view":
+        import conecull
         from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence
         from conecull.viz.checks import check_host_port
         from conecull.viz.viser_app import ViewerApp, serve_forever
 
         check_host_port(args.host, args.port, "--host", "--port")  # before loading: the server would hang on them
+        if args.ccd and args.method not in conecull.CCD_METHODS:
+            raise ValueError(f"--method: {args.method!r} is a discrete (DCD) method; --ccd needs one of "
+                             f"{conecull.CCD_METHODS}")
         F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
-        serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method))
+        serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method, ccd=args.ccd))
         return 0
     if args.command == "explain":
         import conecull

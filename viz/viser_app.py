@@ -27,6 +27,7 @@ from conecull.viz.checks import check_host_port, check_method, url_host
 from conecull.viz.explain import explain_face, explain_node
 
 HIGHLIGHT = (30, 90, 255)
+DCD, CCD = "DCD: frame k", "CCD: step k → k + 1"  # the "query" dropdown
 PARTNER = (20, 20, 20)  # the triangles the clicked one collides with (HIGHLIGHT: the clicked one)
 
 
@@ -94,6 +95,31 @@ def legend_markdown(keys) -> str:
     return " · ".join(f"<span style='color:rgb{tuple(int(c) for c in rgb)}'>■</span> {name}" for name, rgb in keys)
 
 
+def colliding_with(col, res, face: int) -> np.ndarray:
+    """The triangles `face` collides with in a query of col: DCD, the other triangle of each pair
+    holding it; CCD, the triangles on the other side of each contact involving one of its vertices
+    or edges (a vertex's contact with a face: the triangles around that vertex)."""
+    if not hasattr(res, "vf"):
+        pairs = res.pairs
+        mine = pairs[(pairs[:, 0] == face) | (pairs[:, 1] == face)] if len(pairs) else pairs
+        return np.setdiff1d(mine, [face])
+    F, FE = col.mesh.faces, col.mesh.face_edges
+    voff, vids = col.mesh.vertex_faces
+    eoff, eids = col.mesh.edge_faces
+    out = []
+    for v, f in res.vf.tolist():
+        if f == face:
+            out.append(vids[voff[v] : voff[v + 1]])
+        elif v in F[face]:
+            out.append([f])
+    for a, b in res.ee.tolist():
+        if a in FE[face]:
+            out.append(eids[eoff[b] : eoff[b + 1]])
+        if b in FE[face]:
+            out.append(eids[eoff[a] : eoff[a + 1]])
+    return np.setdiff1d(np.concatenate(out).astype(np.int64), [face]) if out else np.zeros(0, np.int64)
+
+
 def strip_segments(strips) -> np.ndarray:
     if not strips:
         return np.zeros((0, 2, 3))
@@ -101,10 +127,18 @@ def strip_segments(strips) -> np.ndarray:
 
 
 class ViewerApp:
-    def __init__(self, faces, frames, *, host: str = "127.0.0.1", port: int = 8080, method: str = "nc"):
-        """faces (m, 3), frames (T, n, 3); host and port to serve on (port 0: any free one)."""
+    def __init__(self, faces, frames, *, host: str = "127.0.0.1", port: int = 8080, method: str = "nc",
+                 ccd: bool = False):
+        """faces (m, 3), frames (T, n, 3); host and port to serve on (port 0: any free one); ccd:
+        start with CCD steps (frame k shows the step from frame k to k + 1, as `record --ccd`)."""
         check_method(method)
         self.frames = checks.frames("frames", frames)
+        if not isinstance(ccd, (bool, np.bool_)):
+            raise ValueError(f"ccd: expected True or False, got {ccd!r}")
+        if ccd and len(self.frames) < 2:
+            raise ValueError(f"ccd: a CCD step needs two frames, the sequence has {len(self.frames)}")
+        if ccd and method not in conecull.CCD_METHODS:
+            raise ValueError(f"method: {method!r} is a discrete (DCD) method; CCD needs one of {conecull.CCD_METHODS}")
         mesh = conecull.Mesh(faces, n_vertices=self.frames.shape[1])
         if mesh.n_faces == 0:  # nothing to show, and no BVH to take depths from
             raise ValueError("faces: no triangles to view")
@@ -119,7 +153,8 @@ class ViewerApp:
         self.max_depth = int(self.colliders[method].bvh_arrays()["depth"].max())
         self.selected_face: int | None = None
         self.selection: dict = {}  # per-node drawings (selected node, clicked triangles): name -> handle
-        self.queried_at = dict.fromkeys(self.colliders, 0)  # the frame each collider last answered (fronts)
+        # The frame each collider's last DCD / CCD query was at: its front of that kind came from there.
+        self.queried_at = {(m, kind): 0 for m in self.colliders for kind in (DCD, CCD)}
         self._note = ""  # a refused control value, said in the stats panel with the next frame drawn
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -131,6 +166,9 @@ class ViewerApp:
         gui.add_markdown("**conecull** — why each region was culled or not")
         self.frame = gui.add_slider("frame", min=0, max=len(self.frames) - 1, step=1, initial_value=0)
         self.play = gui.add_checkbox("play", initial_value=False)
+        # A CCD step needs two frames: a one-frame sequence offers DCD only.
+        self.query = gui.add_dropdown("query", [DCD, CCD] if len(self.frames) > 1 else [DCD],
+                                      initial_value=CCD if ccd else DCD)
         self.method = gui.add_dropdown("method", list(conecull.METHODS), initial_value=method)
         self.depth = gui.add_slider("BVH depth", min=0, max=self.max_depth, step=1, initial_value=min(4, self.max_depth))
         with gui.add_folder("layers"):
@@ -147,7 +185,7 @@ class ViewerApp:
         with gui.add_folder("selected node"):
             self.panel = gui.add_markdown("Click the mesh to select the node at the chosen depth that holds that triangle.")
 
-        for handle in (self.frame, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
+        for handle in (self.frame, self.query, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
                        self.show_cones, self.show_boxes, self.compare):
             handle.on_update(lambda _event: self._update_or_show_error())
         # A click anywhere in the scene, then our own ray test on the shown pose: a click binding
@@ -167,7 +205,7 @@ class ViewerApp:
         while not self._stop.wait(0.3):
             if self.play.value:
                 try:
-                    self.frame.value = (int(self.frame.value) + 1) % len(self.frames)
+                    self.frame.value = (int(self.frame.value) + 1) % (len(self.frames) - (1 if self.ccd else 0))
                 except Exception:  # noqa: BLE001 - shown by _update_or_show_error; play goes on
                     pass
 
@@ -193,26 +231,38 @@ class ViewerApp:
         handle.value = near  # differs from v: viser calls the handle's callbacks, which draw it
         return None
 
+    @property
+    def ccd(self) -> bool:
+        return self.query.value == CCD
+
     def update(self):
-        k = self._in_range(self.frame, len(self.frames) - 1, "frame")
+        ccd = self.ccd  # once, as the method below
+        last = len(self.frames) - (2 if ccd else 1)  # CCD: the last frame starts no step
+        k = self._in_range(self.frame, last, "frame" if not ccd else "step (its first frame)")
         d = self._in_range(self.depth, self.max_depth, "BVH depth")
         if k is None or d is None:
             return  # set back into range, which drew the frame
+        if ccd and self.method.value not in conecull.CCD_METHODS:
+            self._note += f"**{self.method.value} is a discrete (DCD) method**: showing nc for CCD. "
+            self.method.value = "nc"  # its callback draws it
+            return
         with self._lock:
             self.k, self.d = k, d
-            V = self.frames[k]
             m = self.method.value  # once: the dropdown may change while this frame is drawn
             col = self.colliders[m]
-            since = self.queried_at[m]
-            res = col.dcd(V, trace=True)
-            self.queried_at[m] = k
+            kind = CCD if ccd else DCD
+            since = self.queried_at[m, kind]
+            # CCD: the step from frame k to k + 1, drawn (and clicked) at its end pose, as `record --ccd`.
+            V = self.frames[k + 1] if ccd else self.frames[k]
+            res = col.ccd(self.frames[k], V, trace=True, toi=True) if ccd else col.dcd(V, trace=True)
+            self.queried_at[m, kind] = k
             self.res, self.V = res, V
             lay = L.compute(col, self.faces, V, res)
             scene = self.server.scene
             with self.server.atomic():
                 # "front load": how many BVTT front entries reach each face (front methods, Alg. 4)
                 by_front = self.colour_by.value == "front load" and m.endswith("+front")
-                load = col.front_load("dcd") if by_front else None
+                load = col.front_load("ccd" if ccd else "dcd") if by_front else None
                 face_colors = L.front_colors(load) if by_front else lay.face_colors
                 self.face_colors = face_colors
                 self.legend_md.content = legend_markdown(L.front_legend(load) if by_front else L.status_legend())
@@ -234,15 +284,19 @@ class ViewerApp:
                 note, self._note = self._note, ""
                 self.stats_md.content = note + self._stats_line(k, res.stats, since)
                 self._draw_selection()
-            self.compare_md.content = self._compare_table(k, V) if self.compare.value else ""
+            self.compare_md.content = self._compare_table(k, ccd) if self.compare.value else ""
 
     def _stats_line(self, k: int, s: dict, since: int) -> str:
         front = s["method"].endswith("+front")
+        ccd = "vf_contacts" in s
+        where = f"step **{k} → {k + 1}** (drawn at frame {k + 1})" if ccd else f"frame **{k}**"
+        found = (f"vertex-face tests {s['vf_tests']} · edge-edge tests {s['ee_tests']} · contacts "
+                 f"**{s['vf_contacts']} vertex-face, {s['ee_contacts']} edge-edge**" if ccd else
+                 f"elementary tests {s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**")
         # A front method resumes the front its previous query left (Alg. 4): its counters are
         # relative to the frame that query was at, not only to this frame.
-        return (f"frame **{k}** · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
-                f"{s['contour_passed']} · contour failed {s['contour_failed']} · elementary tests "
-                f"{s['elementary_tests']} · colliding pairs **{s['colliding_pairs']}**"
+        return (f"{where} · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
+                f"{s['contour_passed']} · contour failed {s['contour_failed']} · {found}"
                 + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']} "
                    f"{self._since(since, k)}; {s['front_rested']} nodes resting)" if front else "")
                 + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
@@ -254,17 +308,21 @@ class ViewerApp:
         kept = "the front is kept between queries, so this depends on the frame shown before"
         return f"since frame {since}, {kept}" if since != k else f"since frame {k} itself (a re-query of this pose)"
 
-    def _compare_table(self, k: int, V) -> str:
-        """Every method's untraced query at this pose: contour-test time (the contour tests of
-        Fig. 9, per method) and the counters. Each method has its own collider (its own front);
-        the front methods' rows resume the front of that collider's previous query, for the shown
-        method a query of this very pose: the last column says which."""
+    def _compare_table(self, k: int, ccd: bool) -> str:
+        """Every method's untraced query at this pose (CCD: this step, the methods for CCD):
+        contour-test time (the contour tests of Fig. 9, per method) and the counters. Each method
+        has its own collider (its own front); the front methods' rows resume the front of that
+        collider's previous query, for the shown method a query of this very pose: the last
+        column says which."""
         rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms | front from |",
                 "|---|---|---|---|---|---|---|"]
+        kind = CCD if ccd else DCD
         for m, col in self.colliders.items():
-            since = self.queried_at[m]
-            res, ms = timed_query(col, V)
-            self.queried_at[m] = k
+            if ccd and m not in conecull.CCD_METHODS:
+                continue
+            since = self.queried_at[m, kind]
+            res, ms = timed_query(col, self.frames[k], self.frames[k + 1]) if ccd else timed_query(col, self.frames[k])
+            self.queried_at[m, kind] = k
             s = res.stats
             front = ("—" if not m.endswith("+front") else
                      f"frame {since}" if since != k else f"frame {k}: re-query of this pose")
@@ -307,18 +365,18 @@ class ViewerApp:
         bvh = col.bvh_arrays()
         node = node_at_depth(bvh, self.selected_face, self.d)
         text = explain_node(col, self.res, node)
-        pairs = self.res.pairs
-        mine = pairs[(pairs[:, 0] == self.selected_face) | (pairs[:, 1] == self.selected_face)] if len(pairs) else pairs
-        self._draw_triangles(np.setdiff1d(mine, [self.selected_face]))
-        if len(mine):
+        partners = colliding_with(col, self.res, self.selected_face)
+        self._draw_triangles(partners)
+        if len(partners):
             # A colliding triangle: with which, and why no node holding both was culled (the
             # node at the chosen depth alone may be culled: the pair lies across two of them).
             text = (explain_face(col, self.res, self.selected_face, limit=3)
                     + f"\nThe node at the chosen depth, {node}, holds this triangle; its verdict (below) is about "
                       "collisions among its own triangles only.\n" + text)
-        marked = (f" · outlined on the mesh: it in blue, the {len(np.unique(mine)) - 1} it collides with in black"
-                  if len(mine) else " · outlined in blue on the mesh")
-        self.panel.content = f"triangle {self.selected_face} → node **{node}** (frame {self.k}){marked}\n\n" + \
+        marked = (f" · outlined on the mesh: it in blue, the {len(partners)} it collides with in black"
+                  if len(partners) else " · outlined in blue on the mesh")
+        when = f"step {self.k} → {self.k + 1}" if hasattr(self.res, "vf") else f"frame {self.k}"
+        self.panel.content = f"triangle {self.selected_face} → node **{node}** ({when}){marked}\n\n" + \
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()
         loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]

@@ -319,3 +319,64 @@ def test_front_counters_say_which_frame_the_front_came_from():
         assert rows["aabb+front"] == "frame 29"
     finally:
         app.close()
+
+
+def test_viewer_shows_ccd_steps():
+    """query "CCD": frame k shows the step from frame k to k + 1 at its end pose, with the step's
+    contacts (as a fresh collider finds them), a clicked triangle's partners (every triangle on
+    the other side of a contact of its vertices, edges or face), no step after the last frame,
+    and DCD-only sct refused."""
+    import conecull
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import CCD, DCD, ViewerApp
+
+    F, frames = load_sequence("fold")
+    app = ViewerApp(F, frames, port=free_port(), method="nc", ccd=True)
+    try:
+        assert app.query.value == CCD
+        app.frame.value = 27
+        fresh = conecull.SelfCollider(conecull.Mesh(F), method="nc")
+        fresh.dcd(frames[0])
+        want = fresh.ccd(frames[27], frames[28])
+        assert np.array_equal(app.res.vf, want.vf) and np.array_equal(app.res.ee, want.ee) and len(want.vf)
+        assert np.array_equal(app.V, frames[28])
+        assert (f"step **27 → 28** (drawn at frame 28)" in app.stats_md.content
+                and f"contacts **{len(want.vf)} vertex-face, {len(want.ee)} edge-edge**" in app.stats_md.content)
+        # Partners, from the contacts as pairs of triangles (around a vertex x a face, around an edge x around an edge).
+        mesh = fresh.mesh
+        voff, vids = mesh.vertex_faces
+        eoff, eids = mesh.edge_faces
+        pairs = {(int(t), int(f)) for v, f in want.vf for t in vids[voff[v]:voff[v + 1]]}
+        pairs |= {(int(s), int(t)) for a, b in want.ee for s in eids[eoff[a]:eoff[a + 1]] for t in eids[eoff[b]:eoff[b + 1]]}
+        face = int(want.vf[0][1])
+        partners = sorted({q for p in pairs if face in p for q in p if q != face})
+        app.select_face(face)
+        assert f"the {len(partners)} it collides with in black" in app.panel.content
+        assert "(step 27 → 28)" in app.panel.content and "touches triangle" in app.panel.content
+        drawn = app.selection["/selected/partners"]
+        assert len(drawn.points) == 6 * len(partners)
+        app.frame.value = 29  # the last frame starts no step
+        assert app.frame.value == 28 and "refused" in app.stats_md.content
+        app.method.value = "sct"
+        assert app.method.value == "nc" and "sct is a discrete (DCD) method" in app.stats_md.content
+        app.compare.value = True
+        assert "| sct |" not in app.compare_md.content and "| cbc |" in app.compare_md.content
+        app.query.value = DCD
+        assert "frame **28**" in app.stats_md.content and "colliding pairs" in app.stats_md.content
+    finally:
+        app.close()
+
+
+def test_viewer_refuses_ccd_it_cannot_show():
+    import pytest
+
+    from conecull.app.cli import main
+    from conecull.datasets.generated import folding_sheet
+    from conecull.viz.viser_app import ViewerApp
+
+    F, P = folding_sheet(50, 2)
+    with pytest.raises(ValueError, match="method: 'sct' is a discrete"):
+        ViewerApp(F, P, port=free_port(), method="sct", ccd=True)
+    with pytest.raises(ValueError, match="ccd: a CCD step needs two frames, the sequence has 1"):
+        ViewerApp(F, P[:1], port=free_port(), ccd=True)
+    assert main(["view", "--ccd", "--method", "sct", "--port", str(free_port())]) == 2
