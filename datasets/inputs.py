@@ -15,6 +15,7 @@ from decimal import Decimal
 import numpy as np
 
 from conecull.datasets import checks
+from conecull.datasets.mesh_files import check_fans, read_mesh
 
 
 DEFAULT_SCENE = "fold"
@@ -24,145 +25,6 @@ def scene_names() -> list[str]:
     from conecull.datasets.registry import names
 
     return names()
-
-
-def _load_mesh(path: str):
-    """Faces (m, 3) int64, vertices (n, 3) float64 and how many of the file's faces had more than
-    3 corners (split into triangles), with the file's own vertex ids and face order."""
-    if path.lower().endswith(".obj"):
-        F, V, polygons = _read_obj(path)
-    else:
-        F, V, polygons = _read_with_trimesh(path)
-    if len(F) == 0:
-        raise ValueError(f"{path}: no triangles in this file")
-    try:  # here, where the file is known: later the same error could not say which file it is in
-        V = checks.points("vertices", V)
-    except ValueError as e:
-        raise ValueError(f"{path}: {e}") from None
-    return F, V, polygons
-
-
-def _triangles(faces: list, where, n_vertices: int, first: int = 0) -> tuple[np.ndarray, int]:
-    """Faces (lists of corner ids, counted from 0) as triangles in file order, and how many had
-    more than 3 corners: a face of k > 3 corners becomes the fan (c0, c1, c2), (c0, c2, c3), ...
-    of k - 2 triangles. Each face is checked first, where(k) naming face k in the messages (the
-    rows of the triangles would not be the file's faces), with vertex ids shown counted from
-    `first`, as the file counts them."""
-    if all(len(f) == 3 for f in faces):  # the usual case, checked at once (the loop names a bad face)
-        F = np.array(faces, dtype=np.int64).reshape(-1, 3)
-        if ((F >= 0) & (F < n_vertices)).all() and (F[:, [0, 1, 2]] != F[:, [1, 2, 0]]).all():
-            return F, 0
-    out, polygons = [], 0
-    for k, f in enumerate(faces):
-        if len(f) < 3:
-            raise ValueError(f"{where(k)}: a face needs at least 3 vertices, this one has {len(f)}")
-        if len(set(f)) < len(f):
-            raise ValueError(f"{where(k)}: a face repeats a vertex: {[c + first for c in f]} (counted from {first})")
-        bad = next((c for c in f if not 0 <= c < n_vertices), None)
-        if bad is not None:
-            raise ValueError(f"{where(k)}: a face refers to vertex {bad + first} (counted from {first}), but the file "
-                             f"has {n_vertices} vertices")
-        if len(f) > 3:
-            polygons += 1
-            out.extend((f[0], f[i], f[i + 1]) for i in range(1, len(f) - 1))
-        else:
-            out.append(f)
-    return np.array(out, dtype=np.int64).reshape(-1, 3), polygons
-
-
-def _shown(line: bytes) -> str:
-    return repr(line.strip().decode(errors="replace")[:80])
-
-
-def _read_obj(path: str):
-    """An OBJ's vertices and faces as the file numbers them. Not trimesh's reader: it splits
-    vertices at material groups (usemtl) and orders faces by material, so the ids reported were
-    not the file's (and a flat sheet in two materials came out in two pieces, colliding)."""
-    try:
-        with open(path, "rb") as fh:
-            text = fh.read()
-    except OSError as e:
-        raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
-    V, faces, lines = [], [], []
-    continued = b""
-    rows = text.split(b"\n")
-    for number, raw in enumerate(rows, 1):
-        line = continued + raw.rstrip(b"\r")
-        if line.endswith(b"\\"):  # continued on the next line
-            continued = line[:-1] + b" "
-            continue
-        continued = b""
-        words = line.split(b"#", 1)[0].split()
-        if not words:
-            continue
-        if words[0] == b"v":
-            try:
-                xyz = [float(w) for w in words[1:4]]
-            except ValueError:
-                xyz = []
-            if len(xyz) < 3:
-                raise ValueError(f"{path}: line {number}: a vertex needs 3 coordinates ({_shown(line)})")
-            V.append(xyz)
-        elif words[0] == b"f":
-            face = []
-            for w in words[1:]:
-                try:
-                    i = int(w.split(b"/", 1)[0])
-                except ValueError:
-                    raise ValueError(f"{path}: line {number}: a face's vertex must be a number ({_shown(line)})") from None
-                if i == 0:  # OBJ counts from 1, and negative values back from the last vertex so far
-                    raise ValueError(f"{path}: line {number}: a face refers to vertex 0, but OBJ counts vertices "
-                                     f"from 1 ({_shown(line)})")
-                if -i > len(V):
-                    raise ValueError(f"{path}: line {number}: a face refers to vertex {i}, counted back from the "
-                                     f"last one, but only {len(V)} come before it ({_shown(line)})")
-                face.append(i - 1 if i > 0 else len(V) + i)
-            faces.append(face)
-            lines.append(number)
-    # Checked once all are read: vertices listed after the faces that use them are allowed.
-    F, polygons = _triangles(faces, lambda k: f"{path}: line {lines[k]} ({_shown(rows[lines[k] - 1])})", len(V), 1)
-    return F, np.array(V, dtype=np.float64).reshape(-1, 3), polygons
-
-
-def _ply_corners(data):
-    """The corner lists of a PLY's faces as trimesh read them: a dict of arrays (ASCII), or a
-    structured array (binary: per face, its corner count 'f0' and corners 'f1'); None if neither."""
-    if isinstance(data, dict):
-        return data.get("vertex_indices", data.get("vertex_index"))
-    if isinstance(data, np.ndarray) and data.dtype.names:
-        name = next((n for n in ("vertex_indices", "vertex_index") if n in data.dtype.names), None)
-        lists = data[name] if name else None
-        if lists is not None and lists.dtype.names == ("f0", "f1"):
-            count, corners = lists["f0"], lists["f1"].reshape(len(lists), -1)
-            if (count == corners.shape[1]).all():
-                return corners
-            return [list(c[:k]) for c, k in zip(corners, count)]
-    return None
-
-
-def _read_with_trimesh(path: str):
-    import trimesh
-
-    try:
-        m = trimesh.load(path, process=False, force="mesh")  # process=False: no vertex merged
-    except Exception as e:  # trimesh raises many types for unreadable files
-        raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
-    if not hasattr(m, "faces") or len(m.faces) == 0:
-        raise ValueError(f"{path}: no triangles in this file")
-    # A PLY's faces as the file lists them: trimesh drops faces of 2 corners and splits polygons
-    # its own way, silently.
-    face = (m.metadata.get("_ply_raw") or {}).get("face", {})
-    corners = _ply_corners(face.get("data"))
-    if corners is None:  # not a PLY, or a layout not known here: trimesh's faces, if one per face of the file
-        if "length" in face and face["length"] != len(m.faces):
-            raise ValueError(f"{path}: {face['length']} faces in the file but {len(m.faces)} triangles read: "
-                             "cannot tell which triangle is which face; triangulate the file first")
-        return np.asarray(m.faces, dtype=np.int64), np.asarray(m.vertices), 0
-    if isinstance(corners, np.ndarray) and corners.ndim == 2 and corners.shape[1] == 3:  # all triangles
-        return corners.astype(np.int64), np.asarray(m.vertices), 0
-    F, polygons = _triangles([[int(c) for c in f] for f in corners], lambda k: f"{path}: face {k} (counted from 0)",
-                             len(m.vertices))
-    return F, np.asarray(m.vertices), polygons
 
 
 def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:
@@ -179,21 +41,34 @@ def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:
         raise ValueError(f"{path}: {e}") from None
 
 
-def _frame_key(name: str):
-    """Compares names part by part: numbers (digit runs, with a decimal fraction if they have
-    one) as numbers, the rest as lower-case text."""
-    parts = re.split(r"(\d+(?:\.\d+)?)", name)  # text at even indices, numbers at odd: comparable part by part
+def _frame_key(name: str, decimals: bool = False):
+    """Compares names part by part: digit runs as whole numbers (or, with `decimals`, digit runs
+    with a fraction as decimal numbers), the rest as lower-case text."""
+    parts = re.split(r"(\d+(?:\.\d+)?)" if decimals else r"(\d+)", name)  # numbers at odd indices
     return [Decimal(t) if i % 2 else t.lower() for i, t in enumerate(parts)]
 
 
 def frame_order(names: list[str]) -> list[str]:
-    """File names in frame order: by their numbers, not their text (frame2 before frame10, and
-    t0.25 before t0.5), so unpadded and time-stamped numbering work. Names compare part by part
-    (`_frame_key`); names with equal keys (frame1, frame01) keep their plain text order, and a
-    folder holding such names is refused by `load_sequence`. Names without a consistent numbering
-    (a.ply, b2.ply, b10.ply) still get this one deterministic order, which need not be the
-    intended one."""
+    """File names in frame order: by the whole numbers in their names, not their text (frame2
+    before frame10), so unpadded numbering works. Names compare part by part (`_frame_key`); names
+    with equal keys (frame1, frame01) keep their plain text order. A minus sign is a separator
+    (frame-2 is frame 2). `load_sequence` refuses a folder whose order this leaves in doubt."""
     return sorted(names, key=lambda name: (_frame_key(name), name))
+
+
+def _check_frame_order(files: list[str], folder: str) -> None:
+    """files in frame_order: refused if two name the same frame (frame1, frame01; t1, t1.0), or
+    if reading their numbers as decimals orders them otherwise (t0.25 after t0.5 as whole
+    numbers; cloth_v2.10 before cloth_v2.2 as decimals): which is meant is not ours to guess."""
+    for a, b in zip(files, files[1:]):
+        if _frame_key(a) == _frame_key(b) or _frame_key(a, True) == _frame_key(b, True):
+            raise ValueError(f"INPUT: '{a}' and '{b}' in folder '{folder}' have the same frame number")
+    as_decimals = sorted(files, key=lambda name: (_frame_key(name, True), name))
+    k = next((k for k, (a, b) in enumerate(zip(files, as_decimals)) if a != b), None)
+    if k is not None:
+        raise ValueError(f"INPUT: the frame order in folder '{folder}' is ambiguous: '{files[k]}' comes before "
+                         f"'{as_decimals[k]}' if the numbers in their names are whole numbers, after it if they are "
+                         "decimals; name the frames with whole numbers (frame_0001.obj, ...)")
 
 
 def load_sequence(source: str, positions: str | None = None, resolution: int | None = None):
@@ -225,26 +100,29 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
         if len(kinds) > 1:  # one sequence twice over, or two sequences: which is meant is not ours to guess
             raise ValueError(f"INPUT: folder '{source}' holds both .obj and .ply files; put one sequence of one "
                              "format in a folder")
-        for a, b in zip(files, files[1:]):
-            if _frame_key(a) == _frame_key(b):
-                raise ValueError(f"INPUT: '{a}' and '{b}' in folder '{source}' have the same frame number")
-        F0, frames = None, []
+        _check_frame_order(files, source)
+        first, frames = None, []
         for name in files:
-            F, V, polygons = _load_mesh(os.path.join(source, name))
-            if F0 is None:
-                _check_faces(os.path.join(source, name), F, len(V))
-                _warn_polygons(polygons, name)
-                F0 = F
-            elif F.shape != F0.shape or not np.array_equal(F, F0):
+            mesh = read_mesh(os.path.join(source, name))
+            if first is None:
+                _check_faces(os.path.join(source, name), mesh.faces, len(mesh.vertices))
+                first = mesh
+            elif mesh.faces.shape != first.faces.shape or not np.array_equal(mesh.faces, first.faces):
                 raise ValueError(f"INPUT: frame '{name}' has different faces than '{files[0]}' (topology must not change)")
-            if frames and len(V) != len(frames[0]):
-                raise ValueError(f"INPUT: frame '{name}' has {len(V)} vertices, '{files[0]}' has {len(frames[0])}")
-            frames.append(V)
-        return F0, np.stack(frames)
-    F, V, polygons = _load_mesh(source)
+            if frames and len(mesh.vertices) != len(frames[0]):
+                raise ValueError(f"INPUT: frame '{name}' has {len(mesh.vertices)} vertices, '{files[0]}' has "
+                                 f"{len(frames[0])}")
+            frames.append(mesh.vertices)
+        frames = np.stack(frames)
+        check_fans(first, frames, [f"frame '{name}'" for name in files])
+        _warn_polygons(first, files[0])
+        return first.faces, frames
+    mesh = read_mesh(source)
+    F, V = mesh.faces, mesh.vertices
     _check_faces(source, F, len(V))
-    _warn_polygons(polygons, os.path.basename(source))
     if positions is None:
+        check_fans(mesh, V[None], ["the file"])
+        _warn_polygons(mesh, os.path.basename(source))
         return F, V[None]
     if not os.path.exists(positions):
         raise FileNotFoundError(f"positions: '{positions}' does not exist")
@@ -269,12 +147,18 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
         raise ValueError(f"positions: cannot read '{positions}' as .npz or .npy ({e})") from None
     if raw is None:
         raise ValueError(f"positions: '{positions}' holds no array")
+    if not isinstance(raw, np.ndarray):  # an .npz member that is no .npy
+        raise ValueError(f"positions: '{shown}' is not an array")
     # real (complex would lose its imaginary part, silently), (T >= 1, n, 3), finite: each
     # message names the file (and the array read), and the frame of a non-finite coordinate
-    return F, checks.frames("positions", raw, n_vertices=len(V), source=shown)
+    frames = checks.frames("positions", raw, n_vertices=len(V), source=shown)
+    check_fans(mesh, frames, [f"frame {t} of '{shown}'" for t in range(len(frames))])
+    _warn_polygons(mesh, os.path.basename(source))
+    return F, frames
 
 
-def _warn_polygons(polygons: int, name: str) -> None:
+def _warn_polygons(mesh, name: str) -> None:
+    polygons = len(np.unique(mesh.fans[mesh.fans >= 0]))
     if polygons:
         warnings.warn(f"INPUT: {polygons} face{'s' if polygons != 1 else ''} of '{name}' with more than 3 corners "
                       f"{'were' if polygons != 1 else 'was'} split into triangles (a fan from each face's first corner, in file order): triangle "

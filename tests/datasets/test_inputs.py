@@ -73,8 +73,15 @@ def test_obj_forms(tmp_path):
                                             r"from 1\), but the file has 3 vertices"),
     ("v 0 0 0\nv 1 0 0\nf 1 2 -3\nv 0 1 0\n", r"m\.obj: line 3: a face refers to vertex -3, counted back from the last "
                                             r"one, but only 2 come before it"),
-    ("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: a vertex needs 3 coordinates \('v 1 0'\)"),
-    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n", r"m\.obj: line 4: a face's vertex must be a number"),
+    ("v 0 0 0\nv 1 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: a vertex needs 3 numbers \('v 1 0'\)"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n", r"m\.obj: line 4: a face's vertex must be a whole number"),
+    ("v 0 0 0\nv 1_0 0 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: a vertex needs 3 numbers"),  # Python: ten
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0_3\n", r"m\.obj: line 4: a face's vertex must be a whole number"),
+    ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n", r"m\.obj: line 4 .*: a face refers to vertex "
+                                                               r"99999999999999999999999 \(counted from 1\)"),
+    # skipped, these shifted every later vertex id (or lost a face)
+    ("v 0 0 0\nV 1 0 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: 'V' is not an OBJ statement"),
+    ("v 0 0 0\nv1 0 0\nv 0 1 0\nf 1 2 3\n", r"m\.obj: line 2: 'v1' is not an OBJ statement"),
 ])
 def test_bad_obj_lines_are_named(tmp_path, text, match):
     (tmp_path / "m.obj").write_text(text)
@@ -129,9 +136,26 @@ def test_ambiguous_folders_are_refused(tmp_path):
         load_sequence(str(d))
 
 
-def test_frame_order_reads_decimal_time_stamps():
-    names = ["t0.5.obj", "t0.25.obj", "t1.0.obj", "t0.75.obj", "t10.obj", "t2.obj"]
-    assert frame_order(names) == ["t0.25.obj", "t0.5.obj", "t0.75.obj", "t1.0.obj", "t2.obj", "t10.obj"]
+@pytest.mark.parametrize("names,match", [
+    # whole numbers: 0.5 before 0.25; decimals: after (t0.25 ... t1.0 once loaded 0.5, 0.25, 0.75, 1.0)
+    (["t0.5.obj", "t0.25.obj", "t0.75.obj", "t1.0.obj"], r"'t0\.5\.obj' comes before 't0\.25\.obj' if the numbers in "
+                                                       r"their names are whole numbers, after it if they are decimals"),
+    # a version, then an unpadded frame: decimals would put v2.10 before v2.2
+    ([f"cloth_v2.{k}.obj" for k in range(2, 13)], r"'cloth_v2\.2\.obj' comes before 'cloth_v2\.10\.obj'"),
+    (["t1.obj", "t1.0.obj", "t2.obj"], r"'t1\.0\.obj' and 't1\.obj' in folder .* have the same frame number"),
+])
+def test_ambiguous_frame_orders_are_refused(tmp_path, names, match):
+    d = tmp_path / "frames"
+    d.mkdir()
+    for name in names:
+        (d / name).write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    with pytest.raises(ValueError, match=match):
+        load_sequence(str(d))
+
+
+def test_frame_order_is_by_whole_numbers():
+    names = ["frame-10.obj", "frame-2.obj", "frame-1.obj", "t1.5.obj", "t1.25.obj"]  # '-' is a separator
+    assert frame_order(names) == ["frame-1.obj", "frame-2.obj", "frame-10.obj", "t1.5.obj", "t1.25.obj"]
 
 
 def test_npz_positions_are_named_or_refused(tmp_path):
@@ -151,3 +175,79 @@ def test_npz_positions_are_named_or_refused(tmp_path):
     (tmp_path / "m.ply").write_text(PLY_HEAD.format(n=1) + "3 0 1 2\n")
     with pytest.raises(ValueError, match=r"positions: '.*m\.ply' is not an \.npz or \.npy file"):
         load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "m.ply"))
+
+
+def test_obj_text_forms(tmp_path):
+    """A UTF-8 byte order mark (it hid the first vertex: every id shifted), a comment ending in a
+    backslash (a Windows path: it swallowed the next line), CR line endings, a continuation on the
+    last line, the old face keyword fo."""
+    cases = {
+        b"\xef\xbb\xbfv 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\n": [[0, 1, 2]],
+        b"# exported to D:\\work\\\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n": [[0, 1, 2]],
+        b"v 0 0 0\rv 1 0 0\rv 0 1 0\rv 1 1 0\rf 1 2 3\rf 2 4 3\r": [[0, 1, 2], [1, 3, 2]],
+        b"v 0 0 0\nv 1 0 0\r\nv 0 1 0\rv 1 1 0\nf 1 2 3\nf 2 4 \\\n 3 \\": [[0, 1, 2], [1, 3, 2]],
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nfo 1 2 3\n": [[0, 1, 2]],
+    }
+    for k, (text, faces) in enumerate(cases.items()):
+        (tmp_path / f"m{k}.obj").write_bytes(text)
+        F, P = load_sequence(str(tmp_path / f"m{k}.obj"))
+        assert F.tolist() == faces and P[0, 0].tolist() == [0, 0, 0] and P[0, 1].tolist() == [1, 0, 0], text
+
+
+PLY_TEXCOORD = ("ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                "element face 3\nproperty list uchar int vertex_indices\nproperty list uchar float texcoord\nend_header\n"
+                "0 0 0\n1 0 0\n1 1 0\n0 1 0\n2 2 0\n3 0 1 2 6 0 0 1 0 1 1\n3 0 2 3 6 0 0 1 0 1 1\n3 2 4 3 6 0 0 1 0 1 1\n")
+
+
+def test_ply_with_per_face_texture_coordinates_keeps_its_vertices(tmp_path):
+    """MeshLab writes per-face texcoord lists: trimesh split the vertices at them (7, reordered)
+    while the faces stayed the file's, so they pointed at the wrong vertices (a flat sheet
+    'collided' with itself)."""
+    (tmp_path / "a.ply").write_text(PLY_TEXCOORD)
+    V = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [2, 2, 0]], np.float32)
+    head = PLY_TEXCOORD.split("end_header\n")[0].replace("ascii", "binary_little_endian") + "end_header\n"
+    uv = struct.pack("<B6f", 6, 0, 0, 1, 0, 1, 1)
+    body = V.tobytes() + b"".join(struct.pack("<B3i", 3, *f) + uv for f in [[0, 1, 2], [0, 2, 3], [2, 4, 3]])
+    (tmp_path / "b.ply").write_bytes(head.encode() + body)
+    for name in ("a.ply", "b.ply"):
+        F, P = load_sequence(str(tmp_path / name))
+        assert F.tolist() == [[0, 1, 2], [0, 2, 3], [2, 4, 3]] and np.array_equal(P[0], V), name
+
+
+@pytest.mark.parametrize("faces,match", [
+    ("3 0 1 2\n", r"the header declares 3 face rows, the file ends after 1"),  # truncated
+    ("3 0 1 2\n3 0 2 3\n3 2 4 3\n3 0 1 4\n", r"line 18: more rows than the header declares"),
+    ("3 0 1 2 3\n3 0 2 3\n3 2 4 3\n", r"line 15: 1 more value\(s\) than the header declares for a face row"),
+    ("4 0 1 2\n3 0 2 3\n3 2 4 3\n", r"line 15: not a face row as the header declares it"),
+    ("3 0 1 2.5\n3 0 2 3\n3 2 4 3\n", r"line 15: not a face row"),
+    ("3 0 1 2 255\n3 0 2 3\n3 2 4 3\n", r"line 15: 1 more value\(s\)"),
+])
+def test_damaged_ascii_ply_is_refused(tmp_path, faces, match):
+    """A lenient reader loaded these with faces dropped or cut short."""
+    (tmp_path / "d.ply").write_text(PLY_HEAD.format(n=3) + faces)
+    with pytest.raises(ValueError, match=r"d\.ply: " + match):
+        load_sequence(str(tmp_path / "d.ply"))
+
+
+def test_other_mesh_formats_are_refused(tmp_path):
+    """STL has no shared vertices (every neighbour 'collides'); OFF went through trimesh unchecked."""
+    for name in ("m.stl", "m.off"):
+        (tmp_path / name).write_text("solid m\nendsolid m\n")
+        with pytest.raises(ValueError, match=rf"{name.replace('.', '[.]')}: only \.obj and \.ply mesh files are read"):
+            load_sequence(str(tmp_path / name))
+
+
+def test_non_convex_polygons_are_refused(tmp_path):
+    """A flat concave quad split from its first corner gives two overlapping triangles: an
+    intersection of the loader's making. Refused, at whichever frame it is concave."""
+    concave = "v 4 0 0\nv 1 1 0\nv 0 4 0\nv 0 0 0\nf 1 2 3 4\n"
+    (tmp_path / "c.obj").write_text(concave)
+    with pytest.raises(ValueError, match=r"c\.obj: line 5 \('f 1 2 3 4'\): this face of more than 3 corners is not "
+                                         r"convex in the file"):
+        load_sequence(str(tmp_path / "c.obj"))
+    d = tmp_path / "frames"
+    d.mkdir()
+    (d / "f0.obj").write_text("v 4 0 0\nv 3 3 0\nv 0 4 0\nv 0 0 0\nf 1 2 3 4\n")  # convex
+    (d / "f1.obj").write_text(concave)
+    with pytest.raises(ValueError, match=r"f0\.obj: line 5 .*: this face .* is not convex in frame 'f1\.obj'"):
+        load_sequence(str(d))

@@ -253,8 +253,8 @@ def test_a_face_beyond_a_files_vertices_is_named(tmp_path):
     (tmp_path / "bad.ply").write_text("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
                                       "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
                                       "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n")
-    with pytest.raises(ValueError, match=r"bad\.ply: faces: row 0 refers to vertex 5 \(counted from 0\), but the file "
-                                         r"has 3 vertices"):
+    with pytest.raises(ValueError, match=r"bad\.ply: face 0 \(counted from 0\): a face refers to vertex 5 \(counted "
+                                         r"from 0\), but the file has 3 vertices"):
         load_sequence(str(tmp_path / "bad.ply"))
 
 
