@@ -53,12 +53,13 @@ void on_sigint(int sig, siginfo_t* info, void* context) {
     }
 }
 
+// Our SIGINT handler for a query's whole call: installed before the query waits for the
+// collider's lock (a Ctrl-C while another thread's query holds it is then not lost), the flag
+// handed to the collider under the lock (Interrupting), the replaced handler back at the end.
 class SigintScope {
    public:
-    // Needs no GIL (the query holds the collider's lock around it); interruptible: as
-    // interruptible_here() said before the GIL was released.
-    SigintScope(SelfCollider& collider, bool interruptible) : collider_(collider) {
-        collider.set_interrupt(nullptr);
+    // Needs no GIL; interruptible: as interruptible_here() said before the GIL was released.
+    explicit SigintScope(bool interruptible) {
         if (!interruptible) return;
         struct sigaction current {};
         if (sigaction(SIGINT, nullptr, &current) != 0) return;
@@ -71,16 +72,16 @@ class SigintScope {
         ours.sa_sigaction = on_sigint;
         ours.sa_flags = SA_SIGINFO | SA_ONSTACK;
         sigemptyset(&ours.sa_mask);
-        if (sigaction(SIGINT, &ours, nullptr) != 0) return;
-        installed_ = true;
-        collider.set_interrupt(&g_sigint);
+        installed_ = sigaction(SIGINT, &ours, nullptr) == 0;
     }
     ~SigintScope() {
         if (installed_) sigaction(SIGINT, &g_replaced, nullptr);
-        collider_.set_interrupt(nullptr);
     }
     SigintScope(const SigintScope&) = delete;
     SigintScope& operator=(const SigintScope&) = delete;
+
+    // The flag a query under this scope reads; null: not interruptible.
+    const std::atomic<bool>* flag() const { return installed_ ? &g_sigint : nullptr; }
 
     // After an Interrupted query, with the GIL held: the KeyboardInterrupt that Python's default
     // handler raises for the signal, through error_already_set.
@@ -90,8 +91,21 @@ class SigintScope {
     }
 
    private:
-    SelfCollider& collider_;
     bool installed_ = false;
+};
+
+// Under the collider's lock: its queries read `flag` until the end of the scope.
+class Interrupting {
+   public:
+    Interrupting(SelfCollider& collider, const std::atomic<bool>* flag) : collider_(collider) {
+        collider.set_interrupt(flag);
+    }
+    ~Interrupting() { collider_.set_interrupt(nullptr); }
+    Interrupting(const Interrupting&) = delete;
+    Interrupting& operator=(const Interrupting&) = delete;
+
+   private:
+    SelfCollider& collider_;
 };
 
 // The collider's lock for a snapshot of its structures (bvh_arrays and the like): a query on
@@ -265,8 +279,9 @@ void bind_collider(py::module_& m) {
                 const bool interruptible = interruptible_here();
                 try {
                     without_gil([&] {
+                        const SigintScope sigint(interruptible);
                         std::lock_guard<std::mutex> lock(self.mutex);
-                        const SigintScope sigint(self.collider, interruptible);  // as ccd
+                        const Interrupting watched(self.collider, sigint.flag());
                         res = self.collider.dcd(V.data(), trace ? &tracer : nullptr, threads, stop_at_first);
                     });
                 } catch (const Interrupted&) {
@@ -300,8 +315,9 @@ void bind_collider(py::module_& m) {
                 const bool interruptible = interruptible_here();
                 try {
                     without_gil([&] {
+                        const SigintScope sigint(interruptible);  // as dcd
                         std::lock_guard<std::mutex> lock(self.mutex);
-                        const SigintScope sigint(self.collider, interruptible);  // under the lock: this query's flag
+                        const Interrupting watched(self.collider, sigint.flag());
                         res = self.collider.ccd(V0.data(), V1.data(), mode, trace ? &tracer : nullptr, toi, threads,
                                                 stop_at_first);
                     });

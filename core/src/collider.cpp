@@ -272,6 +272,17 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
     st.seconds_elementary = seconds_since(t0);
 }
 
+// A query that throws (Ctrl-C, or memory running out) may stop inside the traversal, the front
+// half rebuilt: the nodes reached hold sub-segments of a front never finished (with several
+// threads, offsets into parts never joined), which a later query would resume (found: wrong
+// pairs, or a crash). Its kind's front and learnt test order start over, as a fresh collider's;
+// the next query rebuilds the front from the top, and its counters do not depend on where the
+// query stopped.
+void SelfCollider::forget(BvttFront& front, std::vector<FirstTest>& first) {
+    front.reset(bvh_);
+    std::fill(first.begin(), first.end(), FirstTest::kStar);
+}
+
 DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int threads, bool stop_at_first) {
     DcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
@@ -284,8 +295,8 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     res.stats.seconds_refit = seconds_since(t0);
     try {
         with_tracer(tracer, bvh_, [&](auto& t) { traverse_and_test(V, t, res, stop_at_first); });
-    } catch (const Interrupted&) {
-        dcd_front_.reset(bvh_);  // perhaps stopped inside the traversal, the front half rebuilt
+    } catch (...) {
+        forget(dcd_front_, dcd_first_);  // Ctrl-C, or memory running out, perhaps inside the traversal
         throw;
     }
     return res;
@@ -335,8 +346,8 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     res.stats.seconds_refit = seconds_since(t0);
     try {
         with_tracer(tracer, bvh_, [&](auto& t) { ccd_traverse_and_test(V0, V1, arithmetic, t, res, stop_at_first); });
-    } catch (const Interrupted&) {
-        ccd_front_.reset(bvh_);  // as dcd
+    } catch (...) {
+        forget(ccd_front_, ccd_first_);  // as dcd
         throw;
     }
     if (want_toi) {

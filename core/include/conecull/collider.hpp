@@ -82,8 +82,8 @@ class SelfCollider {
     CcdResult ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer = nullptr,
                   bool want_toi = false, int threads = 0, bool stop_at_first = false);
 
-    // A flag that, once set, makes the running CCD query abandon its elementary tests and throw
-    // Interrupted (interrupt.hpp); null: never. Set between queries by the caller.
+    // A flag that, once set, makes the running query stop and throw Interrupted (interrupt.hpp);
+    // null: never. Set between queries by the caller.
     void set_interrupt(const std::atomic<bool>* flag) { interrupt_ = flag; }
 
     bool built() const { return built_; }
@@ -125,6 +125,7 @@ class SelfCollider {
     // the node when a query of the kind last tested it; contour_test_simple.hpp). Only the order, and so the
     // edges visited, depends on it: the culled nodes do not.
     std::vector<FirstTest> dcd_first_, ccd_first_;
+    void forget(BvttFront& front, std::vector<FirstTest>& first);
     std::vector<TrianglePair> candidates_;  // reused between queries
     CandidateList candidate_list_;          // the query's candidates: candidates_ or the parallel traversal's
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives

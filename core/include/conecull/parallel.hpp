@@ -312,14 +312,15 @@ void concat_in_order(const std::vector<Padded<std::vector<T>>>& parts, size_t n_
 
 // std::sort(v) on up to `threads` threads: slices sorted in parallel, then merged pairwise. For
 // element types whose equal elements are identical (pairs of ints, integers), the result is
-// std::sort's, whatever the thread count. A long sort (tens of millions of elements: the pairs of
-// a mesh crumpled onto itself) is cut into slices of ~2^20 elements whatever the threads, and
-// looks at `interrupt` (interrupt.hpp) before each slice and each merge: throws Interrupted.
+// std::sort's, whatever the thread count. An interruptible sort (`interrupt` given, interrupt.hpp)
+// is cut into slices of ~2^20 elements whatever the threads, and looks at the flag before each
+// slice and each merge (throws Interrupted): the pairs of a mesh crumpled onto itself take
+// seconds to sort. Only then: slices and merges cost 4-12% more than std::sort on 14M pairs.
 template <class T>
 void parallel_sort(std::vector<T>& v, int threads, const std::atomic<bool>* interrupt = nullptr) {
     constexpr size_t kSlice = size_t{1} << 20;
     const size_t n = v.size();
-    const size_t parts = std::max<size_t>(std::min<size_t>(std::max(threads, 1), 8), n / kSlice);
+    const size_t parts = std::max<size_t>(std::min<size_t>(std::max(threads, 1), 8), interrupt ? n / kSlice : 0);
     if (parts <= 1 || n < (1u << 13)) {
         std::sort(v.begin(), v.end());
         return;
