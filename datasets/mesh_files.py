@@ -133,8 +133,6 @@ def _shown(line: bytes) -> str:
 def _obj_statements(text: bytes):
     """(line number, statement) per statement: comments cut, a line ending in a backslash (outside
     a comment) continued on the next, any line ending (LF, CRLF, CR) accepted."""
-    if text.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte order mark: not part of the first word
-        text = text[3:]
     parts, start = [], 0
     for number, raw in enumerate(text.replace(b"\r\n", b"\n").replace(b"\r", b"\n").split(b"\n"), 1):
         code = raw.split(b"#", 1)[0].rstrip()
@@ -150,12 +148,18 @@ def _obj_statements(text: bytes):
         yield start, b" ".join(parts)
 
 
-def _read_obj(path: str) -> MeshFile:
+def _read_bytes(path: str) -> bytes:
+    """The file's bytes, a UTF-8 byte order mark dropped (it is not part of the first word)."""
     try:
         with open(path, "rb") as fh:
             text = fh.read()
     except OSError as e:
         raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
+    return text[3:] if text.startswith(b"\xef\xbb\xbf") else text
+
+
+def _read_obj(path: str) -> MeshFile:
+    text = _read_bytes(path)
     V, faces, lines, shown = [], [], [], {}
     for number, line in _obj_statements(text):
         words = line.split()
@@ -206,13 +210,7 @@ _PLY_FLOATS = {"float", "double", "float32", "float64"}
 
 
 def _read_ply(path: str) -> MeshFile:
-    try:
-        with open(path, "rb") as fh:
-            text = fh.read()
-    except OSError as e:
-        raise ValueError(f"{path}: cannot read mesh ({type(e).__name__}: {e})") from None
-    if text.startswith(b"\xef\xbb\xbf"):
-        text = text[3:]
+    text = _read_bytes(path)
     head = re.match(rb"ply\r?\n(.*?)\bend_header[ \t]*\r?\n", text, re.S)
     if head is None:
         raise ValueError(f"{path}: not a PLY file (no 'ply' ... 'end_header' header)")

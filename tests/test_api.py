@@ -333,6 +333,19 @@ def test_mesh_too_large_for_memory_is_refused_before_building(monkeypatch):
         conecull.Mesh([[0, 1, 2**31 - 2]])
 
 
+def run_script(script: str, *args, timeout: int = 600) -> tuple[list, float]:
+    """A Ctrl-C script run in a fresh interpreter: the words it printed, and the latency bound
+    (0.5 s; 10 s under ./dev.sh sanitize, where a test is ~15x slower)."""
+    import os
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", script, *map(str, args)], capture_output=True, text=True,
+                         timeout=timeout)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout.split(), 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
+
+
 INTERRUPT_SCRIPT = r"""
 import os, signal, sys, threading, time, traceback
 import numpy as np
@@ -382,16 +395,8 @@ def test_ctrl_c_interrupts_a_slow_ccd_query(threads):
     before; asserted below 0.5 s (10 s under ./dev.sh sanitize, where a test is ~15x slower:
     1.0 s measured there, against ~50 s for the whole query). The collider then answers as a
     fresh one does, and Python's handler is back."""
-    import os
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-c", INTERRUPT_SCRIPT, "default", str(threads)], capture_output=True,
-                         text=True, timeout=300)
-    assert out.returncode == 0, out.stderr[-2000:]
-    words = out.stdout.split()
-    bound = 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
-    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < bound, out.stdout
+    words, bound = run_script(INTERRUPT_SCRIPT, "default", threads, timeout=300)
+    assert words[:4] == ["interrupted", "True", "True", "True"] and float(words[4]) < bound, words
 
 
 FIRST_HIT_INTERRUPT_SCRIPT = r"""
@@ -431,16 +436,8 @@ def test_ctrl_c_interrupts_a_first_hit_ccd_query(method, threads):
     candidate: "aabb" (tests inside the traversal's tasks) and "aabb+front" (a full traversal,
     then the candidates in chunks). Before, both ran whole: 3.4 s of tests on one thread on this
     step at 60 x 60 (measured), here 72 x 72."""
-    import os
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-c", FIRST_HIT_INTERRUPT_SCRIPT, method, str(threads)],
-                         capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-2000:]
-    words = out.stdout.split()
-    bound = 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
-    assert words[:3] == ["interrupted", "True", "True"] and float(words[3]) < bound, out.stdout
+    words, bound = run_script(FIRST_HIT_INTERRUPT_SCRIPT, method, threads)
+    assert words[:3] == ["interrupted", "True", "True"] and float(words[3]) < bound, words
 
 
 DCD_INTERRUPT_SCRIPT = r"""
@@ -488,16 +485,8 @@ def test_ctrl_c_interrupts_a_slow_dcd_query(method, threads, delay):
     forgotten, and the collider then answers as a fresh one: kept, "nc+front" on two threads gave
     1483 pairs instead of 353, or crashed (measured). Before, the whole query ran: 3.7-4.3 s on
     one thread (measured)."""
-    import os
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-c", DCD_INTERRUPT_SCRIPT, method, str(threads), str(delay)],
-                         capture_output=True, text=True, timeout=600)
-    assert out.returncode == 0, out.stderr[-2000:]
-    words = out.stdout.split()
-    bound = 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
-    assert words[:3] == ["interrupted", "True", "True"] and float(words[3]) < bound, out.stdout
+    words, bound = run_script(DCD_INTERRUPT_SCRIPT, method, threads, delay)
+    assert words[:3] == ["interrupted", "True", "True"] and float(words[3]) < bound, words
 
 
 LOCK_WAIT_SCRIPT = r"""
@@ -529,15 +518,8 @@ def test_ctrl_c_while_waiting_for_the_collider():
     """Ctrl-C while the main thread's query waits for the collider's lock (another thread's query
     holds it): the query stops as soon as it has the lock. Before, the signal was lost for it (our
     handler came with the lock): it ran whole, 0.76-0.82 s past the other (measured)."""
-    import os
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-c", LOCK_WAIT_SCRIPT], capture_output=True, text=True, timeout=300)
-    assert out.returncode == 0, out.stderr[-2000:]
-    words = out.stdout.split()
-    bound = 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.3
-    assert words[0] == "interrupted" and float(words[1]) < bound, out.stdout
+    words, bound = run_script(LOCK_WAIT_SCRIPT, timeout=300)
+    assert words[0] == "interrupted" and float(words[1]) < 0.6 * bound, words
 
 
 OUT_OF_MEMORY_SCRIPT = r"""
@@ -577,14 +559,11 @@ def test_a_query_out_of_memory_leaves_the_collider_whole():
     as a fresh one: its front is forgotten as after Ctrl-C. Kept, it gave 1483 pairs instead of
     353, or a crash (a reviewer's measurement)."""
     import os
-    import subprocess
-    import sys
 
     if "libasan" in os.environ.get("LD_PRELOAD", ""):
         pytest.skip("AddressSanitizer reserves its shadow memory up front: an address-space cap breaks it")
-    out = subprocess.run([sys.executable, "-c", OUT_OF_MEMORY_SCRIPT], capture_output=True, text=True, timeout=300)
-    assert out.returncode == 0, out.stderr[-2000:]
-    assert out.stdout.split() == ["MemoryError", "True"], out.stdout
+    words, _ = run_script(OUT_OF_MEMORY_SCRIPT, timeout=300)
+    assert words == ["MemoryError", "True"], words
 
 
 @pytest.mark.parametrize("mode", ["custom", "worker"])
@@ -592,14 +571,8 @@ def test_ctrl_c_leaves_other_queries_whole(mode):
     """A program with a SIGINT handler of its own (custom), or a query on another thread than the
     main one (worker): the query runs to its end with its full answer, and the signal reaches
     Python as usual (the handler runs; the main thread gets KeyboardInterrupt)."""
-    import subprocess
-    import sys
-
-    out = subprocess.run([sys.executable, "-c", INTERRUPT_SCRIPT, mode, "2"], capture_output=True, text=True,
-                         timeout=300)
-    assert out.returncode == 0, out.stderr[-2000:]
-    what, n_calls, n_contacts = out.stdout.split()
-    assert what == ("completed" if mode == "custom" else "worker") and n_calls == "1" and int(n_contacts) > 0, out.stdout
+    (what, n_calls, n_contacts), _ = run_script(INTERRUPT_SCRIPT, mode, 2, timeout=300)
+    assert what == ("completed" if mode == "custom" else "worker") and n_calls == "1" and int(n_contacts) > 0
 
 
 DAEMON_SCRIPT = r"""

@@ -293,6 +293,15 @@ def _fold_node(method, frame=28, node=1665):
     return explain_node(col, col.dcd(P[frame], trace=True), node)
 
 
+def _crumple_failure(method: str, reason: int) -> str:
+    """explain_node for the first node whose contour test fails with `reason` at crumple's last frame."""
+    F, P = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F), method=method)
+    col.dcd(P[0])
+    res = col.dcd(P[-1], trace=True)
+    return explain_node(col, res, int(res.trace.contour["node"][res.trace.contour["reason"] == reason][0]))
+
+
 def test_cbc_is_explained_as_its_edge_pair_test():
     """cbc ([TCYM09]) tests every pair of projected contour edges: no kernel point, no ray, no star
     test. Its trace reports the contour's mean as "kernel", a zero ray and 0 crossings, which were
@@ -302,13 +311,7 @@ def test_cbc_is_explained_as_its_edge_pair_test():
            "edges, projected along the cone axis, must be proven apart (496 pairs); no kernel point, no ray" in text
     assert "verdict: culled, passed: no two edges of the contour, projected along the cone axis, meet" in text
     assert "kernel point [" not in text and "ray [" not in text and "crossings" not in text and "star" not in text
-    # A failure names the edge pair test too (crumple's last frame has one).
-    F, P = load_sequence("crumple")
-    col = conecull.SelfCollider(conecull.Mesh(F), method="cbc")
-    col.dcd(P[0])
-    res = col.dcd(P[-1], trace=True)
-    node = int(res.trace.contour["node"][res.trace.contour["reason"] == 7][0])
-    text = explain_node(col, res, node)
+    text = _crumple_failure("cbc", 7)  # a failure names the edge pair test too
     assert "quadratic edge-pair test" in text and "verdict: not culled, edges_may_overlap: cbc: contour edge" in text
     assert "kernel point [" not in text and "star" not in text
 
@@ -323,12 +326,7 @@ def test_sct_is_explained_as_its_projected_star_test():
     assert "crossings 1" in text
     assert "verdict: culled, passed: the contour, projected on the plane perpendicular to the cone axis, is " \
            "star-shaped around the kernel point the line search found" in text
-    F, P = load_sequence("crumple")
-    col = conecull.SelfCollider(conecull.Mesh(F), method="sct")
-    col.dcd(P[0])
-    res = col.dcd(P[-1], trace=True)
-    node = int(res.trace.contour["node"][res.trace.contour["reason"] == 6][0])
-    text = explain_node(col, res, node)
+    text = _crumple_failure("sct", 6)
     assert "the line search found no kernel point there, so no star test ran" in text
     assert "kernel point [" not in text and "crossings" not in text
     assert "verdict: not culled, no_kernel_on_search_line" in text
