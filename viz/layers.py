@@ -155,7 +155,7 @@ def front_legend(load: np.ndarray) -> list[tuple[str, tuple]]:
     top = int(np.max(load)) if len(load) else 0
     keys = [0] + sorted({1, int(round(np.sqrt(top))), top} - {0}) if top > 0 else [0]
     words = {0: "no front entry", 1: "1 front entry"}
-    names = [words.get(k, f"{k} entries") + (" (most at this frame)" if k == top and k > 0 else "") for k in keys]
+    names = [words.get(k, f"{k} entries") + (" (the most now)" if k == top and k > 0 else "") for k in keys]
     return [(n, tuple(int(c) for c in rgb)) for n, rgb in zip(names, front_colors(np.array(keys)))]
 
 

@@ -154,7 +154,8 @@ class ViewerApp:
         self.selected_face: int | None = None
         self.selection: dict = {}  # per-node drawings (selected node, clicked triangles): name -> handle
         # The frame each collider's last DCD / CCD query was at: its front of that kind came from there.
-        self.queried_at = {(m, kind): 0 for m in self.colliders for kind in (DCD, CCD)}
+        # None: none yet (the fronts are kept per kind; only a DCD query of frame 0 has run).
+        self.queried_at = {(m, kind): 0 if kind == DCD else None for m in self.colliders for kind in (DCD, CCD)}
         self._note = ""  # a refused control value, said in the stats panel with the next frame drawn
         self._lock = threading.Lock()
         self._stop = threading.Event()
@@ -183,7 +184,11 @@ class ViewerApp:
             self.compare = gui.add_checkbox("compare all methods", initial_value=False)
             self.compare_md = gui.add_markdown("")
         with gui.add_folder("selected node"):
-            self.panel = gui.add_markdown("Click the mesh to select the node at the chosen depth that holds that triangle.")
+            # A triangle by id too: a contact can lie between layers, out of a click's reach.
+            self.pick = gui.add_number("select triangle", initial_value=-1, min=-1, max=len(self.faces) - 1, step=1)
+            self.panel = gui.add_markdown("Click the mesh (or type a triangle id above) to select the node at the "
+                                          "chosen depth that holds that triangle.")
+        self.pick.on_update(lambda _event: self._pick())
 
         for handle in (self.frame, self.query, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
                        self.show_cones, self.show_boxes, self.compare):
@@ -219,7 +224,7 @@ class ViewerApp:
             traceback.print_exc()
             self.stats_md.content = f"**error while drawing this frame** ({type(e).__name__}: {e}); please report it"
 
-    def _in_range(self, handle, hi: int, what: str) -> int | None:
+    def _in_range(self, handle, hi: int, what: str, why: str = "") -> int | None:
         """handle's value if in 0..hi; else None, after noting the refusal and setting the handle to
         the nearest valid value (which draws that): a slider's number box sends each keystroke
         unclamped (99, -1), and -1 would index from the end."""
@@ -227,7 +232,7 @@ class ViewerApp:
         if float(v).is_integer() and 0 <= v <= hi:
             return int(v)
         near = int(min(max(round(float(v)), 0), hi)) if np.isfinite(float(v)) else 0
-        self._note += f"**{what} {v} refused**: {what}s are 0..{hi}; showing {near}. "
+        self._note += f"**{what} {v} refused**: {what}s are 0..{hi}{why}; showing {near}. "
         handle.value = near  # differs from v: viser calls the handle's callbacks, which draw it
         return None
 
@@ -238,7 +243,8 @@ class ViewerApp:
     def update(self):
         ccd = self.ccd  # once, as the method below
         last = len(self.frames) - (2 if ccd else 1)  # CCD: the last frame starts no step
-        k = self._in_range(self.frame, last, "frame" if not ccd else "step (its first frame)")
+        k = self._in_range(self.frame, last, "step" if ccd else "frame",
+                           f" (step k goes from frame k to k + 1; the last frame, {last + 1}, starts none)" if ccd else "")
         d = self._in_range(self.depth, self.max_depth, "BVH depth")
         if k is None or d is None:
             return  # set back into range, which drew the frame
@@ -298,15 +304,38 @@ class ViewerApp:
         return (f"{where} · method **{s['method']}** · cone tests {s['cone_tests']} · culled "
                 f"{s['contour_passed']} · contour failed {s['contour_failed']} · {found}"
                 + (f" · front entries {s['front_entries']} (+{s['front_added']} / -{s['front_removed']} "
-                   f"{self._since(since, k)}; {s['front_rested']} nodes resting)" if front else "")
+                   f"{self._since(since, k, ccd)}; {s['front_rested']} nodes resting)" if front else "")
                 + (" · *front load needs a +front method*" if self.colour_by.value == "front load"
-                   and not front else ""))
+                   and not front else "")
+                + self._colliders_line())
 
     @staticmethod
-    def _since(since: int, k: int) -> str:
-        """Whence a front method's front came: the frame of that collider's previous query."""
-        kept = "the front is kept between queries, so this depends on the frame shown before"
-        return f"since frame {since}, {kept}" if since != k else f"since frame {k} itself (a re-query of this pose)"
+    def _since(since: int | None, k: int, ccd: bool) -> str:
+        """Whence a front method's front came: that collider's previous query of this kind."""
+        what = "step" if ccd else "frame"
+        if since is None:
+            return f"since no earlier {'CCD' if ccd else 'DCD'} query: built from the top"
+        kept = f"the front is kept between queries, so this depends on the {what} shown before"
+        return f"since {what} {since}, {kept}" if since != k else f"since {what} {k} itself (a re-query of this pose)"
+
+    def _colliders_line(self, shown: int = 12) -> str:
+        """The colliding triangles of the shown query, the first `shown` named: a click target
+        (a contact can hide between layers), or type one into "select triangle"."""
+        res = self.res
+        if hasattr(res, "vf"):
+            col = res.collider() or self.col
+            voff, vids = col.mesh.vertex_faces
+            eoff, eids = col.mesh.edge_faces
+            parts = [res.vf[:, 1]] + [vids[voff[v] : voff[v + 1]] for v in res.vf[:, 0]]
+            parts += [eids[eoff[e] : eoff[e + 1]] for e in res.ee.reshape(-1)]
+            faces = np.unique(np.concatenate(parts)) if len(res.vf) + len(res.ee) else np.zeros(0, np.int64)
+        else:
+            faces = np.unique(res.pairs)
+        if len(faces) == 0:
+            return ""
+        more = f", … ({len(faces)} in all)" if len(faces) > shown else ""
+        return (f"\n\ncolliding triangles: {', '.join(str(int(f)) for f in faces[:shown])}{more} "
+                "(type one into *select triangle*)")
 
     def _compare_table(self, k: int, ccd: bool) -> str:
         """Every method's untraced query at this pose (CCD: this step, the methods for CCD):
@@ -314,7 +343,8 @@ class ViewerApp:
         has its own collider (its own front); the front methods' rows resume the front of that
         collider's previous query, for the shown method a query of this very pose: the last
         column says which."""
-        rows = ["| method | contour tests | culled | contour ms | elementary tests | query ms | front from |",
+        tests = "vertex-face + edge-edge tests" if ccd else "elementary tests"
+        rows = [f"| method | contour tests | culled | contour ms | {tests} | query ms | front from |",
                 "|---|---|---|---|---|---|---|"]
         kind = CCD if ccd else DCD
         for m, col in self.colliders.items():
@@ -324,8 +354,9 @@ class ViewerApp:
             res, ms = timed_query(col, self.frames[k], self.frames[k + 1]) if ccd else timed_query(col, self.frames[k])
             self.queried_at[m, kind] = k
             s = res.stats
-            front = ("—" if not m.endswith("+front") else
-                     f"frame {since}" if since != k else f"frame {k}: re-query of this pose")
+            what = "step" if ccd else "frame"
+            front = ("—" if not m.endswith("+front") else "none: built from the top" if since is None else
+                     f"{what} {since}" if since != k else f"{what} {k}: re-query of this pose")
             rows.append(f"| {m} | {s['contour_tests']} | {s['contour_passed']} | {1e3 * s['seconds_contour']:.3f} | "
                         f"{s['elementary_tests']} | {ms:.1f} | {front} |")
         return "\n".join(rows)
@@ -339,6 +370,17 @@ class ViewerApp:
             self.selected_face = face
             with self.server.atomic():
                 self._draw_selection()
+
+    def _pick(self):
+        """The "select triangle" box: an id in range selects it (as a click would); anything else
+        is said in the panel."""
+        v = self.pick.value
+        if v == -1:
+            return
+        if not (float(v).is_integer() and 0 <= v < len(self.faces)):
+            self.panel.content = f"**triangle {v} refused**: triangles are 0..{len(self.faces) - 1}"
+            return
+        self.select_face(int(v))
 
     def select_face(self, face: int):
         """Programmatic click (tests, scripts)."""
@@ -370,7 +412,8 @@ class ViewerApp:
         if len(partners):
             # A colliding triangle: with which, and why no node holding both was culled (the
             # node at the chosen depth alone may be culled: the pair lies across two of them).
-            text = (explain_face(col, self.res, self.selected_face, limit=3)
+            text = (f"collides with triangles {', '.join(str(int(f)) for f in partners)}\n"
+                    + explain_face(col, self.res, self.selected_face, limit=3)
                     + f"\nThe node at the chosen depth, {node}, holds this triangle; its verdict (below) is about "
                       "collisions among its own triangles only.\n" + text)
         marked = (f" · outlined on the mesh: it in blue, the {len(partners)} it collides with in black"
@@ -380,7 +423,7 @@ class ViewerApp:
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()
         loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
-        if len(loop):
+        if len(loop) and col.method not in ("aabb", "aabb+front"):  # a contour matters only with cones
             pts = self.V[np.append(loop, loop[0])]
             self._draw("add_line_segments", "/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
                        thickness=4.0, thickness_units="screen")

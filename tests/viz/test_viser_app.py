@@ -280,7 +280,7 @@ def test_legend_matches_the_colouring():
         app.colour_by.value = "front load"
         top = int(app.col.front_load().max())
         assert "cone too wide" not in app.legend_md.content and "no front entry" in app.legend_md.content
-        assert f"{top} entries (most at this frame)" in app.legend_md.content
+        assert f"{top} entries (the most now)" in app.legend_md.content
         # every key colour is one the mesh can show for that load
         for load, (_, rgb) in zip([0, 1], L.front_legend(app.col.front_load())):
             assert tuple(L.front_colors(np.array([load, top]))[0]) == rgb
@@ -334,6 +334,9 @@ def test_viewer_shows_ccd_steps():
     app = ViewerApp(F, frames, port=free_port(), method="nc", ccd=True)
     try:
         assert app.query.value == CCD
+        app.method.value = "nc+front"  # its first CCD query: its front came from no earlier one (was "frame 0")
+        assert "since no earlier CCD query: built from the top" in app.stats_md.content
+        app.method.value = "nc"
         app.frame.value = 27
         fresh = conecull.SelfCollider(conecull.Mesh(F), method="nc")
         fresh.dcd(frames[0])
@@ -350,8 +353,13 @@ def test_viewer_shows_ccd_steps():
         pairs |= {(int(s), int(t)) for a, b in want.ee for s in eids[eoff[a]:eoff[a + 1]] for t in eids[eoff[b]:eoff[b + 1]]}
         face = int(want.vf[0][1])
         partners = sorted({q for p in pairs if face in p for q in p if q != face})
-        app.select_face(face)
+        listed = {int(t) for t in pairs_faces(pairs)}
+        shown = app.stats_md.content.split("colliding triangles: ")[1].split(" (")[0]
+        assert f"({len(listed)} in all)" in app.stats_md.content and shown.startswith(
+            ", ".join(str(t) for t in sorted(listed)[:12]))
+        app.pick.value = face  # by id, as a click would (a contact can lie out of a click's reach)
         assert f"the {len(partners)} it collides with in black" in app.panel.content
+        assert f"collides with triangles {', '.join(map(str, partners))}" in app.panel.content
         assert "(step 27 → 28)" in app.panel.content and "touches triangle" in app.panel.content
         drawn = app.selection["/selected/partners"]
         assert len(drawn.points) == 6 * len(partners)
@@ -365,6 +373,10 @@ def test_viewer_shows_ccd_steps():
         assert "frame **28**" in app.stats_md.content and "colliding pairs" in app.stats_md.content
     finally:
         app.close()
+
+
+def pairs_faces(pairs):
+    return {t for p in pairs for t in p}
 
 
 def test_viewer_refuses_ccd_it_cannot_show():

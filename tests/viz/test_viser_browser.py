@@ -53,7 +53,7 @@ def test_viewer_in_browser(tmp_path):
                 page = ctx.new_page()
                 page.goto(f"http://127.0.0.1:{app.port}")
                 page.wait_for_selector("canvas", timeout=30000)
-                page.get_by_text("Click the mesh to select").wait_for(timeout=30000)
+                page.get_by_text("Click the mesh (or type a triangle id above) to select").wait_for(timeout=30000)
                 wait_for(lambda: len(app.server.get_clients()) > 0, what="a client")
                 # Change the frame by typing into the slider's number input: the box sends what is
                 # typed, unclamped; the server sets it back into range and says so.
