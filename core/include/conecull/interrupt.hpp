@@ -7,8 +7,8 @@
 // tests (a first-hit query: before each candidate's tests), every kDcdInterruptStride DCD tests,
 // and every few dozen candidates the traversal emits (SelfCollideTraversal::flush), and stop; the
 // query then throws Interrupted, which the bindings turn into KeyboardInterrupt. The collider
-// forgets its front (it may have been half rebuilt): the next query rebuilds it from the top and
-// answers as a fresh collider would.
+// forgets its front and learnt test order, as after any exception out of a query (the front may
+// have been half rebuilt; SelfCollider::forget): the next query answers as a fresh collider's.
 #pragma once
 
 #include <atomic>
