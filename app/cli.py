@@ -186,18 +186,10 @@ def _explain_command(args, what: str) -> str:
     return " ".join(shlex.quote(w) for w in words) + " " + what
 
 
-def _contact_face(mesh, step) -> int:
-    """A triangle of a CCD step's first contact, for `explain --face`: the VF contact's face, or
-    a triangle around the EE contact's first edge."""
-    if len(step.vf):
-        return int(step.vf[0][1])
-    off, faces = mesh.edge_faces
-    return int(faces[off[step.ee[0][0]]])
-
-
 def _check(args) -> int:
     """`conecull check`: the first-hit queries (stop_at_first) per frame and, with --ccd, per step."""
     import conecull
+    from conecull.app.demo import contact_face
     from conecull.viz.explain import time_bound
     from conecull.datasets.inputs import DEFAULT_SCENE, load_sequence, parse_frames
 
@@ -230,7 +222,7 @@ def _check(args) -> int:
                 continue
             bad += 1
             print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, {time_bound(step.toi[0], 6)}; "
-                  "why: " + _explain_command(args, f"--frame {k} --ccd --face {_contact_face(mesh, step)}"
+                  "why: " + _explain_command(args, f"--frame {k} --ccd --face {contact_face(mesh, step)}"
                                              + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else "")))
     kinds = "frames and steps" if args.ccd else "frames"
     print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide{'s' if bad == 1 else ''}" if bad else
@@ -354,17 +346,9 @@ def _run(args) -> int:
               f"open it with: {rerun_command(args.out)}")
         hit = next((k for k, s in zip(rng, stats) if s["colliding_pairs"]), None)
         if hit is not None:  # the triage question for the first collision recorded
-            import conecull
+            from conecull.app.demo import first_collision_args
 
-            col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
-            col.dcd(frames[0])  # node ids from the first frame, as in the recording
-            if args.ccd:
-                step = col.ccd(frames[hit], frames[hit + 1], arithmetic=args.arithmetic, stop_at_first=True)
-                what = f"--frame {hit} --ccd --face {_contact_face(col.mesh, step)}" + (
-                    f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else "")
-            else:
-                i, j = col.dcd(frames[hit], stop_at_first=True).pairs[0]
-                what = f"--frame {hit} --pair {i} {j}"
+            what = first_collision_args(F, frames, hit, args.method, args.ccd, args.arithmetic)
             print(f"first collision recorded at {'step' if args.ccd else 'frame'} {hit}; why it was not culled "
                   f"away: {_explain_command(args, what)}")
         return 0

@@ -25,6 +25,31 @@ def rerun_command(path: str) -> str:
     return f"{shlex.quote(_tool('rerun'))} {shlex.quote(os.path.abspath(path))}"
 
 
+def contact_face(mesh, step) -> int:
+    """A triangle of a CCD step's first contact, for `explain --face`: the VF contact's face, or
+    a triangle around the EE contact's first edge."""
+    if len(step.vf):
+        return int(step.vf[0][1])
+    off, faces = mesh.edge_faces
+    return int(faces[off[step.ee[0][0]]])
+
+
+def first_collision_args(F, frames, hit: int, method: str, ccd: bool = False, arithmetic: str = "exact") -> str:
+    """The `conecull explain` options for the first collision `method` finds at frame `hit` (CCD:
+    the step from it): a colliding pair, or a triangle of the first contact; node ids from the
+    first frame, as `record` and `explain` take them. (--method is the caller's to add.)"""
+    import conecull
+
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=method)
+    col.dcd(frames[0])
+    if ccd:
+        step = col.ccd(frames[hit], frames[hit + 1], arithmetic=arithmetic, stop_at_first=True)
+        return f"--frame {hit} --ccd --face {contact_face(col.mesh, step)}" + (
+            f" --arithmetic {arithmetic}" if arithmetic != "exact" else "")
+    i, j = col.dcd(frames[hit], stop_at_first=True).pairs[0]
+    return f"--frame {hit} --pair {i} {j}"
+
+
 def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
     F, frames = load_sequence(DEFAULT_SCENE)
     print(f"conecull demo: scene '{DEFAULT_SCENE}', {len(F)} triangles, {len(frames)} frames, method={method}")
@@ -42,11 +67,6 @@ def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
           "to open)")
     hit = next((k for k, s in enumerate(stats) if s["colliding_pairs"]), None)
     if hit is not None:  # the triage question for the first colliding frame
-        import conecull
-
-        col = conecull.SelfCollider(conecull.Mesh(F), method=method)
-        col.dcd(frames[0])  # node ids from the first frame, as in `record` and `explain`
-        i, j = col.dcd(frames[hit], stop_at_first=True).pairs[0]
         print(f"why a collision was not culled away: {shlex.quote(_tool('conecull'))} explain {DEFAULT_SCENE} "
-              f"--frame {hit} --pair {i} {j}" + (f" --method {method}" if method != "nc" else ""))
+              + first_collision_args(F, frames, hit, method) + (f" --method {method}" if method != "nc" else ""))
     return 0
