@@ -77,6 +77,9 @@ def check_result(col, res) -> None:
         raise ValueError(f"res: comes from another collider ({problems[0]}); pass the result of a query of col itself")
 
 
+NO_CONES = ("aabb", "aabb+front")  # the methods without normal cones (nor contours)
+
+
 # The contour tests differ per method, though the trace fills the same fields for each: "nc" runs
 # Alg. 1 (a kernel point o, a ray r, its crossings), or the simplicity test; "sct" [SPO10] projects
 # the contour on the plane perpendicular to the cone axis, looks for o by a line search there,
@@ -162,7 +165,7 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
         lines.append(f"verdict: not examined: its ancestor {above[0]} was culled, which covers this node.")
     elif nt < 2:
         lines.append("verdict: not examined: a single triangle cannot collide with itself (Alg. 2 line 1).")
-    elif res.stats.get("method") in ("aabb", "aabb+front"):
+    elif res.stats.get("method") in NO_CONES:
         lines.append(f"verdict: not examined: method '{res.stats['method']}' uses no normal cones.")
     else:
         lines.append("verdict: not examined by normal cones in this query.")
@@ -238,7 +241,7 @@ class Verdicts:
         if i is not None and not tr.cone["bounded"][i]:
             return False, "cone_too_wide", CONE_SHORT
         method = self.res.stats.get("method")
-        if method in ("aabb", "aabb+front"):
+        if method in NO_CONES:
             return None, "no_cones", f"method '{method}' uses no normal cones"
         return None, "not_judged", "not judged by normal cones in this query"
 

@@ -24,7 +24,7 @@ from conecull.datasets import checks
 from conecull.viz import layers as L
 from conecull.viz.compare import timed_query
 from conecull.viz.checks import check_host_port, check_method, url_host
-from conecull.viz.explain import explain_face, explain_node
+from conecull.viz.explain import NO_CONES, explain_face, explain_node
 
 HIGHLIGHT = (30, 90, 255)
 DCD, CCD = "DCD: frame k", "CCD: step k → k + 1"  # the "query" dropdown
@@ -95,29 +95,23 @@ def legend_markdown(keys) -> str:
     return " · ".join(f"<span style='color:rgb{tuple(int(c) for c in rgb)}'>■</span> {name}" for name, rgb in keys)
 
 
-def colliding_with(col, res, face: int) -> np.ndarray:
-    """The triangles `face` collides with in a query of col: DCD, the other triangle of each pair
-    holding it; CCD, the triangles on the other side of each contact involving one of its vertices
-    or edges (a vertex's contact with a face: the triangles around that vertex)."""
+def colliding_triangles(col, res) -> np.ndarray:
+    """(k, 2) pairs of triangles that collide in a query of col: DCD, its pairs; CCD, for each
+    contact the triangles on either side (a vertex's contact with a face: each triangle around
+    the vertex with the face; an edge's with an edge: the triangles around each)."""
     if not hasattr(res, "vf"):
-        pairs = res.pairs
-        mine = pairs[(pairs[:, 0] == face) | (pairs[:, 1] == face)] if len(pairs) else pairs
-        return np.setdiff1d(mine, [face])
-    F, FE = col.mesh.faces, col.mesh.face_edges
+        return res.pairs
     voff, vids = col.mesh.vertex_faces
     eoff, eids = col.mesh.edge_faces
-    out = []
-    for v, f in res.vf.tolist():
-        if f == face:
-            out.append(vids[voff[v] : voff[v + 1]])
-        elif v in F[face]:
-            out.append([f])
-    for a, b in res.ee.tolist():
-        if a in FE[face]:
-            out.append(eids[eoff[b] : eoff[b + 1]])
-        if b in FE[face]:
-            out.append(eids[eoff[a] : eoff[a + 1]])
-    return np.setdiff1d(np.concatenate(out).astype(np.int64), [face]) if out else np.zeros(0, np.int64)
+    pairs = [(t, f) for v, f in res.vf.tolist() for t in vids[voff[v] : voff[v + 1]]]
+    pairs += [(u, t) for a, b in res.ee.tolist() for u in eids[eoff[a] : eoff[a + 1]] for t in eids[eoff[b] : eoff[b + 1]]]
+    return np.array(pairs, dtype=np.int64).reshape(-1, 2)
+
+
+def partners_of(pairs: np.ndarray, face: int) -> np.ndarray:
+    """The triangles paired with `face` in (k, 2) pairs, sorted, without it."""
+    mine = pairs[(pairs[:, 0] == face) | (pairs[:, 1] == face)]
+    return np.setdiff1d(mine, [face])
 
 
 def strip_segments(strips) -> np.ndarray:
@@ -263,6 +257,7 @@ class ViewerApp:
             res = col.ccd(self.frames[k], V, trace=True, toi=True) if ccd else col.dcd(V, trace=True)
             self.queried_at[m, kind] = k
             self.res, self.V = res, V
+            self.colliding = colliding_triangles(col, res)  # for the stats line and every click
             lay = L.compute(col, self.faces, V, res)
             scene = self.server.scene
             with self.server.atomic():
@@ -321,16 +316,7 @@ class ViewerApp:
     def _colliders_line(self, shown: int = 12) -> str:
         """The colliding triangles of the shown query, the first `shown` named: a click target
         (a contact can hide between layers), or type one into "select triangle"."""
-        res = self.res
-        if hasattr(res, "vf"):
-            col = res.collider() or self.col
-            voff, vids = col.mesh.vertex_faces
-            eoff, eids = col.mesh.edge_faces
-            parts = [res.vf[:, 1]] + [vids[voff[v] : voff[v + 1]] for v in res.vf[:, 0]]
-            parts += [eids[eoff[e] : eoff[e + 1]] for e in res.ee.reshape(-1)]
-            faces = np.unique(np.concatenate(parts)) if len(res.vf) + len(res.ee) else np.zeros(0, np.int64)
-        else:
-            faces = np.unique(res.pairs)
+        faces = np.unique(self.colliding)
         if len(faces) == 0:
             return ""
         more = f", … ({len(faces)} in all)" if len(faces) > shown else ""
@@ -407,7 +393,7 @@ class ViewerApp:
         bvh = col.bvh_arrays()
         node = node_at_depth(bvh, self.selected_face, self.d)
         text = explain_node(col, self.res, node)
-        partners = colliding_with(col, self.res, self.selected_face)
+        partners = partners_of(self.colliding, self.selected_face)
         self._draw_triangles(partners)
         if len(partners):
             # A colliding triangle: with which, and why no node holding both was culled (the
@@ -423,7 +409,7 @@ class ViewerApp:
             "\n\n".join(text.splitlines())
         ct = col.contour_arrays()
         loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
-        if len(loop) and col.method not in ("aabb", "aabb+front"):  # a contour matters only with cones
+        if len(loop) and col.method not in NO_CONES:  # a contour matters only with cones
             pts = self.V[np.append(loop, loop[0])]
             self._draw("add_line_segments", "/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
                        thickness=4.0, thickness_units="screen")
