@@ -28,13 +28,10 @@ def scene_names() -> list[str]:
 
 
 def _check_faces(path: str, F: np.ndarray, n_vertices: int) -> None:
-    """The mesh's own checks (indices, repeated vertices), with the file named."""
+    """The mesh's own checks (its size against memory, ...), with the file named. Indices and
+    repeated vertices were checked face by face as the file was read (mesh_files._triangles)."""
     import conecull
 
-    if F.size and F.max() >= n_vertices:  # else Mesh would blame its n_vertices, which no one passed here
-        r = int(np.argmax(F.max(axis=1)))
-        raise ValueError(f"{path}: faces: row {r} refers to vertex {int(F[r].max())} (counted from 0), but the file "
-                         f"has {n_vertices} vertices")
     try:
         conecull.Mesh(F, n_vertices=n_vertices)
     except ValueError as e:

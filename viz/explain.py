@@ -113,7 +113,7 @@ def contour_test_line(method: str, contour: dict, i: int, n_edges: int) -> str:
     if method == "cbc":
         return (f"contour test ({CBC_NAME}): every pair of the contour's {n_edges} edges, projected along the cone "
                 f"axis, must be proven apart ({n_edges * (n_edges - 1) // 2} pairs); no kernel point, no ray")
-    if method == "sct" and int(contour["reason"][i]) == 6:
+    if method == "sct" and REASONS[int(contour["reason"][i])][0] == "no_kernel_on_search_line":
         return (f"contour test ({SCT_NAME}): the contour's {n_edges} edges projected on the plane perpendicular to "
                 "the cone axis; the line search found no kernel point there, so no star test ran")
     if method == "sct":
