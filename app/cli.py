@@ -29,7 +29,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="culling method (default nc; --ccd: any but sct)")
     p.add_argument("--frames", help="A:B (B exclusive) or K, frames counted from 0: the frames to record "
                                     "(default all)")
-    p.add_argument("--depth", type=int, default=4, help="BVH depth whose boxes are drawn (default 4)")
+    p.add_argument("--depth", type=int, default=None,
+                   help="BVH depth whose boxes are drawn (default 4, or the BVH's deepest if less)")
     p.add_argument("--ccd", action="store_true", help="continuous: frame k shows the step from frame k to k + 1")
     p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
                    help="CCD arithmetic (default exact)")
@@ -186,6 +187,18 @@ def _explain_command(args, what: str) -> str:
     return " ".join(shlex.quote(w) for w in words) + " " + what
 
 
+def _source_words(args) -> str:
+    """The input as the command line named it, for a recording's /about page."""
+    from conecull.datasets.inputs import DEFAULT_SCENE
+
+    words = [args.input or f"{DEFAULT_SCENE} (the default scene)"]
+    if args.positions:
+        words.append(f"with positions {args.positions}")
+    if args.resolution is not None:
+        words.append(f"at resolution {args.resolution}")
+    return "`" + words[0] + "`" + "".join(" " + w for w in words[1:])
+
+
 def _check(args) -> int:
     """`conecull check`: the first-hit queries (stop_at_first) per frame and, with --ccd, per step."""
     import conecull
@@ -195,10 +208,14 @@ def _check(args) -> int:
 
     if args.ccd and args.method not in conecull.CCD_METHODS:
         raise ValueError(f"--method: {args.method!r} is a discrete (DCD) method; --ccd needs one of {conecull.CCD_METHODS}")
+    if args.arithmetic != "exact" and not args.ccd:
+        raise ValueError("--arithmetic: only with --ccd (a DCD query has no arithmetic mode)")
     F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
     rng = parse_frames(args.frames, len(frames))
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
     col = conecull.SelfCollider(mesh, method=args.method)
+    if rng[0] != 0:  # the BVH from frame 0, as `record` and `explain` build it: the same first pair found
+        col.dcd(frames[0])
     bad = 0
     for k in rng:
         res = col.dcd(frames[k], stop_at_first=True)
@@ -329,7 +346,8 @@ def _run(args) -> int:
         from conecull.viz.checks import check_compare, check_depth
         from conecull.viz.rerun_sink import record
 
-        check_depth(args.depth, "--depth")
+        if args.depth is not None:
+            check_depth(args.depth, "--depth")
         compare = None
         if args.compare is not None:
             compare = [m.strip() for m in args.compare.split(",")]
@@ -340,7 +358,7 @@ def _run(args) -> int:
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
                        progress=(lambda d, t: _progress(d, t, "steps" if args.ccd else "frames"))
                        if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
-                       arithmetic=args.arithmetic, compare=compare)
+                       arithmetic=args.arithmetic, compare=compare, source=_source_words(args))
         kind = f"{_plural(len(stats), 'CCD step')} ({args.arithmetic})" if args.ccd else _plural(len(stats), "frame")
         print(f"wrote {args.out}: {kind}, {len(F)} triangles, method {args.method}; "
               f"open it with: {rerun_command(args.out)}")
@@ -382,12 +400,22 @@ def _run(args) -> int:
         col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
         col.dcd(frames[0])  # the BVH (and so node ids) come from the first frame, as in `record`
         k = args.frame
+        # A front method resumes the front of its previous query of the same kind (Alg. 4): replay
+        # the previous frame's (step's), as `record` of consecutive frames queries it.
+        front = args.method.endswith("+front") and k > 0
         if args.ccd:
+            if front:
+                col.ccd(frames[k - 1], frames[k], arithmetic=args.arithmetic)
             res = col.ccd(frames[k], frames[k + 1], arithmetic=args.arithmetic, trace=True, toi=True)
-            head = f"step {k} -> {k + 1} ({args.arithmetic}), method {args.method}:"
+            head = f"step {k} -> {k + 1} ({args.arithmetic}), method {args.method}"
         else:
+            if front and k > 1:
+                col.dcd(frames[k - 1])
             res = col.dcd(frames[k], trace=True)
-            head = f"frame {k}, method {args.method}:"
+            head = f"frame {k}, method {args.method}"
+        what = "step" if args.ccd else "frame"
+        head += (f" (its front resumed from the query of {what} {k - 1}, as a recording of consecutive {what}s "
+                 "has it):" if front else ":")
         if args.node is not None:
             text = explain_node(col, res, args.node, node_name="--node")
         elif args.face is not None:

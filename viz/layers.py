@@ -3,7 +3,11 @@
 Face status, by precedence (later wins): not examined by normal cones < inside a node whose
 cone failed < inside a node whose contour test failed or could not run < inside a culled node
 < colliding. Deeper nodes overwrite shallower ones, so each face shows the verdict of the
-deepest node that judged it.
+deepest node that judged it. The traversal descends below a failing node until a node is culled,
+so most faces end in a culled node: their green is shaded by that node's depth (deep green for a
+node near the root, paler for a small one deep in the BVH), and the culled nodes' boundary
+contours (the contour their test passed) outline the culled patches. Only a leaf that fails
+leaves its faces yellow or orange; the failing nodes above are drawn as boxes instead.
 """
 
 from __future__ import annotations
@@ -17,6 +21,11 @@ from conecull.trace import CONE_TOO_WIDE, REASONS, explain, reason_name
 UNTESTED, CONE_FAILED, CONTOUR_FAILED, CULLED, COLLIDING = range(5)
 STATUS_NAMES = ("not examined", "cone too wide", "contour failed", "culled", "colliding")
 STATUS_COLORS = np.array([[190, 190, 190], [235, 195, 60], [240, 130, 40], [80, 175, 95], [215, 40, 40]], np.uint8)
+COLOR_WORDS = ("grey", "yellow", "orange", "green", "red")  # of STATUS_COLORS, for legends in words
+CULLED_PALE = 0.5  # how far toward white the green of a culled face goes at the BVH's deepest level
+CULLED_CONTOUR_COLOR = (30, 110, 50)  # the culled nodes' outlines: a darker green than any culled face
+KERNEL_NOT_FOUND = next(c for c, (name, _) in REASONS.items() if name == "no_kernel_on_search_line")  # sct's
+CONE_TOO_WIDE_CODE = -1  # in FrameLayers.node_codes: the node's cone test failed (no contour test ran)
 
 # One colour per contour reason (trace.REASONS: Alg. 1 failures 1-5, the sct and cbc baselines' 6
 # and 7, ineligible 16+); tests check that every reason has one.
@@ -30,17 +39,30 @@ REASON_COLORS = {
 @dataclass
 class FrameLayers:
     face_status: np.ndarray       # (m,) uint8 of the constants above
-    face_colors: np.ndarray       # (m, 3) uint8
+    face_colors: np.ndarray       # (m, 3) uint8; culled faces shaded by their culled node's depth
+    face_node: np.ndarray         # (m,) the node whose verdict a face shows (-1: none)
+    culled_nodes: np.ndarray      # nodes whose contour test passed (Alg. 2 line 6: culled)
+    culled_strips: list           # their boundary contours, closed (k + 1, 3) loops: the culled patches
     contour_nodes: np.ndarray     # nodes whose Alg. 1 ran and failed (they have a loop)
     contour_strips: list          # closed loops as (k + 1, 3) arrays, one per contour node
     contour_reasons: np.ndarray
     kernels: np.ndarray           # (c, 3) at the pose drawn (CCD: the end pose, so o at t = 1)
     rays: np.ndarray              # (c, 3) vectors, scaled to the node size
-    cone_nodes: np.ndarray        # nodes whose cone or contour test failed
-    cone_origins: np.ndarray
-    cone_vectors: np.ndarray
-    cone_bounded: np.ndarray
+    cone_nodes: np.ndarray        # nodes whose cone or contour test failed (or could not run)
+    cone_origins: np.ndarray      # their box centres
+    cone_vectors: np.ndarray      # their cone axes, scaled to the node size; zero where unbounded
+    cone_bounded: np.ndarray      # the cone was bounded (an axis exists: draw it)
+    node_codes: np.ndarray        # per cone node: CONE_TOO_WIDE_CODE or its contour reason
+    node_colors: np.ndarray       # (c, 3) uint8: yellow for a cone too wide, else REASON_COLORS
+    node_labels: list             # per cone node: "node 17: not_star_shaped", as the log names it
+    axis_nodes: np.ndarray        # nodes whose cone was bounded and whose contour was tested (culled or not)
+    axis_origins: np.ndarray      # their box centres
+    axis_vectors: np.ndarray      # their cone axes (the contour test's projection direction), scaled to the node
+    axis_colors: np.ndarray       # dark green where culled, else the contour reason's colour
+    box_lo: np.ndarray            # (c, 3) per cone node its box's lower corner,
+    box_hi: np.ndarray            # (c, 3) and its upper one
     sentences: list               # one plain sentence per failing node: contour failures, then cones
+    culled_summary: str           # one sentence on the culled nodes ("" if none)
 
 
 def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, edge: int = -1,
@@ -73,6 +95,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     depth, begin, end, order, box = bvh["depth"], bvh["begin"], bvh["end"], bvh["order"], bvh["box"]
     status = np.zeros(m, np.uint8)
     # (depth, status) per judged node; paint shallow first.
+    face_node = np.full(m, -1, np.int64)
     events = []
     for node, ok in zip(tr.cone["node"], tr.cone["bounded"]):
         if not ok:
@@ -80,17 +103,29 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     for node, code in zip(tr.contour["node"], tr.contour["reason"]):
         events.append((depth[node], CULLED if code == 0 else CONTOUR_FAILED, node))
     for _, st, node in sorted(events):
-        status[order[begin[node] : end[node]]] = st
+        f = order[begin[node] : end[node]]
+        status[f], face_node[f] = st, node
+    colors = STATUS_COLORS[status]
+    culled = np.flatnonzero(status == CULLED)
+    if len(culled):  # shallow culled node: full green; the deepest level: CULLED_PALE toward white
+        t = CULLED_PALE * depth[face_node[culled]] / max(int(depth.max()), 1)
+        colors[culled] = np.round(STATUS_COLORS[CULLED] + t[:, None] * (255.0 - STATUS_COLORS[CULLED])).astype(np.uint8)
     hit = colliding_faces(col, res)
     if len(hit):
         status[hit] = COLLIDING
+        colors[hit] = STATUS_COLORS[COLLIDING]
+
+    def loop_of(node):
+        loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
+        return V[np.append(loop, loop[0])]
+
+    culled_nodes = tr.contour["node"][tr.contour["reason"] == 0].astype(np.int64)
+    culled_nodes = culled_nodes[ct["offsets"][culled_nodes + 1] > ct["offsets"][culled_nodes]]  # a passed test had one
+    culled_strips = [loop_of(n) for n in culled_nodes]
 
     fail = (tr.contour["reason"] > 0) & (tr.contour["reason"] < 16)
     cnodes = tr.contour["node"][fail]
-    strips = []
-    for node in cnodes:
-        loop = ct["vertices"][ct["offsets"][node] : ct["offsets"][node + 1]]
-        strips.append(V[np.append(loop, loop[0])])
+    strips = [loop_of(node) for node in cnodes]
     size = np.linalg.norm(box[:, 1] - box[:, 0], axis=1)
     rays = tr.contour["ray"][fail]
     axes_of = dict(zip(tr.cone["node"].tolist(), tr.cone["axis"]))
@@ -104,10 +139,23 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     proj = np.array(proj).reshape(-1, 3)
 
     bad_cone = tr.cone["node"][~tr.cone["bounded"]]
-    cone_nodes = np.concatenate([bad_cone, cnodes, tr.contour["node"][tr.contour["reason"] >= 16]]).astype(np.int64)
+    ineligible = tr.contour["reason"] >= 16
+    cone_nodes = np.concatenate([bad_cone, cnodes, tr.contour["node"][ineligible]]).astype(np.int64)
+    node_codes = np.concatenate([np.full(len(bad_cone), CONE_TOO_WIDE_CODE), tr.contour["reason"][fail],
+                                 tr.contour["reason"][ineligible]]).astype(np.int64)
+    node_colors = np.array([STATUS_COLORS[CONE_FAILED] if c == CONE_TOO_WIDE_CODE else REASON_COLORS[int(c)]
+                            for c in node_codes], np.uint8).reshape(-1, 3)
+    node_labels = [f"node {n}: {CONE_TOO_WIDE[0] if c == CONE_TOO_WIDE_CODE else reason_name(int(c))}"
+                   for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
     centers = 0.5 * (box[cone_nodes, 0] + box[cone_nodes, 1])
     vecs = np.array([axes_of[int(n)] * 0.5 * size[n] for n in cone_nodes]).reshape(-1, 3)
-    bounded = np.isin(cone_nodes, tr.cone["node"][tr.cone["bounded"]])
+    bounded_nodes = tr.cone["node"][tr.cone["bounded"]]
+    bounded = np.isin(cone_nodes, bounded_nodes)
+    tested = np.isin(tr.contour["node"], bounded_nodes)
+    axis_nodes = tr.contour["node"][tested].astype(np.int64)
+    axis_codes = tr.contour["reason"][tested]
+    axis_colors = np.array([CULLED_CONTOUR_COLOR if c == 0 else REASON_COLORS[int(c)] for c in axis_codes],
+                           np.uint8).reshape(-1, 3)
 
     # Failed contours first (the rarer and more telling verdict: a log cut short keeps them).
     sentences = []
@@ -117,15 +165,40 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
                                            int(code), int(e), int(c)))
     for node in bad_cone:
         sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone"))
-    kernels = tr.contour["kernel_end"][fail]
-    if res.stats.get("method") == "cbc":  # its edge-pair test has no kernel point nor ray (the trace's are fillers)
-        kernels, proj = np.full_like(kernels, np.nan), np.full_like(proj, np.nan)
+    kernels = tr.contour["kernel_end"][fail].copy()
+    # No kernel point was tried (the trace's kernel and ray are fillers): cbc's edge-pair test has
+    # none, and sct's line search may find none. NaN rows: the sinks draw only finite ones.
+    no_kernel = np.full(len(kernels), res.stats.get("method") == "cbc")
+    no_kernel |= tr.contour["reason"][fail] == KERNEL_NOT_FOUND
+    kernels[no_kernel] = np.nan
+    proj[no_kernel] = np.nan
     return FrameLayers(
-        face_status=status, face_colors=STATUS_COLORS[status], contour_nodes=cnodes, contour_strips=strips,
+        face_status=status, face_colors=colors, face_node=face_node, culled_nodes=culled_nodes,
+        culled_strips=culled_strips, contour_nodes=cnodes, contour_strips=strips,
         contour_reasons=tr.contour["reason"][fail], kernels=kernels, rays=proj,
         cone_nodes=cone_nodes, cone_origins=centers.reshape(-1, 3), cone_vectors=vecs, cone_bounded=bounded,
+        node_codes=node_codes, node_colors=node_colors, node_labels=node_labels, axis_nodes=axis_nodes,
+        axis_origins=(0.5 * (box[axis_nodes, 0] + box[axis_nodes, 1])).reshape(-1, 3),
+        axis_vectors=np.array([axes_of[int(n)] * 0.5 * size[n] for n in axis_nodes]).reshape(-1, 3),
+        axis_colors=axis_colors,
+        box_lo=box[cone_nodes, 0].reshape(-1, 3), box_hi=box[cone_nodes, 1].reshape(-1, 3),
         sentences=sentences,
+        culled_summary=culled_sentence(culled_nodes, depth, end - begin, m, hasattr(res, "vf")),
     )
+
+
+def culled_sentence(nodes: np.ndarray, depth: np.ndarray, n_tris: np.ndarray, m: int, ccd: bool, shown: int = 3) -> str:
+    """What the culled nodes (Alg. 2 line 6) prove, in one sentence, the largest named."""
+    if not len(nodes):
+        return ""
+    what = "touch during the step" if ccd else "intersect"
+    if (nodes == 0).any():
+        return (f"the root (all {m} triangles) was culled: its normal cone is bounded below 180 degrees and its "
+                f"contour passed the test, so no two of its triangles can {what}; nothing else was tested.")
+    big = nodes[np.lexsort((nodes, -n_tris[nodes]))][:shown]
+    named = ", ".join(f"node {n} (depth {depth[n]}, {n_tris[n]} triangles)" for n in big.tolist())
+    return (f"{len(nodes)} nodes culled, {int(n_tris[nodes].sum())} of the {m} triangles: no two triangles of one "
+            f"culled node can {what} (pairs across nodes are left to box tests); the largest: {named}.")
 
 
 # Front load heatmap stops (no front -> light grey, then blue to yellow as the load grows).
@@ -146,7 +219,11 @@ def front_colors(load: np.ndarray) -> np.ndarray:
 
 def status_legend() -> list[tuple[str, tuple]]:
     """The key of the verdict colouring (face_colors): (name, colour) per face status."""
-    return [(name, tuple(int(c) for c in STATUS_COLORS[i])) for i, name in enumerate(STATUS_NAMES)]
+    names = list(STATUS_NAMES)
+    names[CULLED] += " (paler: a smaller node, deeper in the BVH)"
+    names[CONE_FAILED] += " (a leaf)"
+    names[CONTOUR_FAILED] += " (a leaf)"
+    return [(name, tuple(int(c) for c in STATUS_COLORS[i])) for i, name in enumerate(names)]
 
 
 def front_legend(load: np.ndarray) -> list[tuple[str, tuple]]:

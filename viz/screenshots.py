@@ -55,9 +55,10 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
         F, frames = load_sequence(scene, resolution=resolution)
         col = conecull.SelfCollider(conecull.Mesh(F), method=method)
         col.dcd(frames[0])
-        rec = RerunRecorder.__new__(RerunRecorder)  # same logging, other sink: gRPC instead of a file
-        rec.rec = rr.RecordingStream("conecull", recording_id="screenshot")
-        rec.rec.connect_grpc(f"rerun+http://127.0.0.1:{grpc}/proxy")
+        stream = rr.RecordingStream("conecull", recording_id="screenshot")  # same logging, sent over gRPC
+        stream.connect_grpc(f"rerun+http://127.0.0.1:{grpc}/proxy")
+        rec = RerunRecorder(None, conecull.Mesh(F).faces, stream=stream, method=method, bvh_depth=4,
+                            deepest=int(col.bvh_arrays()["depth"].max()), layout=False)
         if front_view:
             import rerun.blueprint as rrb
 
@@ -77,10 +78,9 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
                 column_shares=[3, 2]), collapse_panels=True))
         else:
             rec.rec.send_blueprint(blueprint(method.endswith("+front")))
-        rec.faces, rec.bvh_depth = conecull.Mesh(F).faces, 4
         others = compared_colliders(conecull.Mesh(F), compare, frames[0])
         for k in range(frame + 1):
-            rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True))
+            rec.log_frame(k, col, frames[k], col.dcd(frames[k], trace=True), previous=max(k - 1, 0))
             for m, other in others.items():
                 r, ms = timed_query(other, frames[k])
                 rec.log_compare(k, m, r.stats, ms)

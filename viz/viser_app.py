@@ -170,6 +170,7 @@ class ViewerApp:
             self.show_mesh = gui.add_checkbox("mesh", initial_value=True)
             self.colour_by = gui.add_dropdown("mesh colour", ["verdict", "front load"], initial_value="verdict")
             self.show_contours = gui.add_checkbox("failing contours", initial_value=True)
+            self.show_culled = gui.add_checkbox("culled patches' contours", initial_value=True)
             self.show_cones = gui.add_checkbox("cone axes", initial_value=False)
             self.show_boxes = gui.add_checkbox("BVH boxes at depth", initial_value=False)
         self.legend_md = gui.add_markdown(legend_markdown(L.status_legend()))  # follows the colouring shown
@@ -185,7 +186,7 @@ class ViewerApp:
         self.pick.on_update(lambda _event: self._pick())
 
         for handle in (self.frame, self.query, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
-                       self.show_cones, self.show_boxes, self.compare):
+                       self.show_culled, self.show_cones, self.show_boxes, self.compare):
             handle.on_update(lambda _event: self._update_or_show_error())
         # A click anywhere in the scene, then our own ray test on the shown pose: a click binding
         # on the mesh would make viser outline it when hovered, in yellow, on its back faces
@@ -274,9 +275,12 @@ class ViewerApp:
                                    [len(s) - 1 for s in lay.contour_strips], axis=0) if len(segs) else np.zeros((0, 3), np.uint8)
                 scene.add_line_segments("/contours", segs.reshape(-1, 2, 3), np.repeat(colors[:, None], 2, axis=1),
                                         thickness=2.0, thickness_units="screen", visible=bool(self.show_contours.value))
-                arrows = np.stack([lay.cone_origins, lay.cone_origins + lay.cone_vectors], axis=1)
-                cone_col = np.where(lay.cone_bounded[:, None], [[80, 175, 95]], [[235, 195, 60]]).astype(np.uint8)
-                scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), cone_col.reshape(-1, 3),
+                segs = strip_segments(lay.culled_strips)
+                scene.add_line_segments("/culled", segs.reshape(-1, 2, 3), L.CULLED_CONTOUR_COLOR, thickness=1.0,
+                                        thickness_units="screen", visible=bool(self.show_culled.value))
+                # the bounded cones' axes, culled nodes' included (a cone too wide has no axis)
+                arrows = np.stack([lay.axis_origins, lay.axis_origins + lay.axis_vectors], axis=1)
+                scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), lay.axis_colors,
                                  shaft_radius=0.002, head_radius=0.006, head_length=0.012, visible=bool(self.show_cones.value))
                 bvh = col.bvh_arrays()
                 sel = np.flatnonzero(bvh["depth"] == d)

@@ -283,6 +283,8 @@ def test_check_reports_first_hits_that_are_real(capsys):
 @pytest.mark.parametrize("argv, message", [
     (["check", "bend", "--ccd", "--method", "sct"], "--method: 'sct' is a discrete (DCD) method"),
     (["check", "bend", "--frames", "40"], "--frames: '40' selects no frame"),
+    (["check", "bend", "--arithmetic", "float"], "--arithmetic: only with --ccd"),
+    (["record", "bend", "--arithmetic", "float"], "--arithmetic: 'float' is a CCD mode"),
 ])
 def test_check_bad_options(argv, message, capsys):
     assert main(argv) == 2
@@ -391,3 +393,40 @@ def test_library_warnings_are_one_line(tmp_path, capsys):
     assert err == ["conecull check: warning: INPUT: 1 face of 'f0.obj' with more than 3 corners was split into "
                    "triangles (a fan from each face's first corner, in file order): triangle ids count these "
                    "triangles, not the file's faces"]
+
+
+def test_check_record_and_explain_agree_on_the_first_pair(tmp_path, capsys):
+    """`check` builds its BVH from frame 0, as `record` and `explain` do, whatever --frames says:
+    the first pair it names at a frame is the one `record` names (it was 12 x 60 with --frames
+    28:29 and 973 x 1084 over all frames)."""
+    firsts = []
+    for frames in ("28:29", "20:30"):
+        assert main(["check", "fold", "--frames", frames]) == 1
+        line = next(ln for ln in capsys.readouterr().out.splitlines() if ln.startswith("frame 28:"))
+        firsts.append(line.split("--pair ")[1])
+    assert main(["record", "fold", "--frames", "28:29", "--out", str(tmp_path / "r.rrd")]) == 0
+    recorded = capsys.readouterr().out.split("--pair ")[1].split()[:2]
+    assert firsts[0] == firsts[1] == " ".join(recorded)
+
+
+def test_explain_tells_a_front_methods_story_as_the_recording_does(tmp_path, capsys):
+    """A front method's verdict depends on the previous query (Alg. 4): `explain` replays the
+    previous frame's, as `record` of consecutive frames queries it, so the sentence is the log's
+    (it said "built from the top" while the recording said "resumed, then dropped for churning")."""
+    import sys
+
+    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "viz"))
+    from test_rerun_sink import _log_rows
+
+    path = str(tmp_path / "f.rrd")
+    for ccd in ([], ["--ccd"]):
+        assert main(["record", "fold", "--frames", "26:30", "--method", "nc+front", "--out", path] + ccd) == 0
+        capsys.readouterr()
+        k = 29 if not ccd else 27
+        what = ["--pair", "18", "56"] if not ccd else ["--face", "62"]
+        assert main(["explain", "fold", "--frame", str(k), "--method", "nc+front"] + what + ccd) == 0
+        text = capsys.readouterr().out.splitlines()
+        assert "its front resumed from the query of " + ("step" if ccd else "frame") + f" {k - 1}" in text[0]
+        logged = [t for _, t in _log_rows(path)[k]]
+        said = text[1] if not ccd else text[2]  # CCD: the face's first contact, after "triangle 62 takes part in ..."
+        assert said in logged, (said, logged[:3])

@@ -248,7 +248,15 @@ def test_baselines_own_failures_are_recorded(tmp_path, method, frames, code):
     path = str(tmp_path / f"{method}.rrd")
     record(path, F, P, method=method, frame_range=range(*frames))
     labels = rows_by_frame(path, "/scene/contours/failed", "LineStrips3D:labels")
-    assert any(reason_name(code) in (v or []) for v in labels.values()), labels
+    assert any(label.endswith(": " + reason_name(code)) for v in labels.values() for label in v or []), labels
+    # each strip names its node and reason, as the core's trace has them
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]), method=method)
+    col.dcd(P[0])
+    for k in range(*frames):
+        c = col.dcd(P[k], trace=True).trace.contour
+        fail = (c["reason"] > 0) & (c["reason"] < 16)
+        assert labels.get(k) == [f"node {n}: {reason_name(r)}" for n, r in zip(c["node"][fail].tolist(),
+                                                                             c["reason"][fail].tolist())], k
 
 
 def _log_rows(path):
@@ -321,6 +329,161 @@ def test_only_the_methods_own_verdicts_are_plotted(tmp_path):
     assert "/stats/verdict/contour_edges_may_overlap" in got["cbc"] - got["nc"]
     assert not any(e.endswith("no_kernel_on_search_line") for e in got["nc"] | got["cbc"])
     assert "/stats/verdict/contour_not_star_shaped" in got["nc"]
+    # cbc's edge-pair test gives only its own verdict, never Alg. 1's
+    assert not any(e.startswith("/stats/verdict/contour_") and not e.endswith("edges_may_overlap") for e in got["cbc"])
+
+
+def test_sct_draws_no_kernel_point_where_it_found_none():
+    """sct's line search may find no kernel point (reason 6): the trace's kernel and ray there are
+    fillers, not drawn; its other failures (a kernel point found, the star test failed) would be
+    (on the generated scenes sct fails only so; nc's drawn kernels: test_cbc_failures_draw_no_kernel_point)."""
+    import conecull
+    from conecull.viz import layers as L
+
+    F, P = load_sequence("crumple")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]), method="sct")
+    col.dcd(P[0])
+    seen = set()
+    for k in (0, 1, 26):
+        lay = L.compute(col, F, P[k], col.dcd(P[k], trace=True))
+        drawn = np.isfinite(lay.kernels).all(axis=1)
+        assert np.array_equal(drawn, lay.contour_reasons != L.KERNEL_NOT_FOUND), k
+        assert np.isnan(lay.rays[~drawn]).all() and np.isfinite(lay.rays[drawn]).all()
+        seen |= set(drawn.tolist())
+    assert False in seen  # the line search failed somewhere here
+
+
+def _entities(path):
+    return {(chunk.to_record_batch().schema.metadata or {}).get(b"rerun:entity_path", b"").decode()
+            for chunk in RrdReader(path).stream().collect().stream()}
+
+
+def test_culled_patches_and_failed_nodes_are_drawn(tmp_path):
+    """Per frame: one outline per culled node (the contour its test passed, labelled with its
+    id), one labelled box per node not culled (cone too wide, contour failed, or no single simple
+    contour), and cone arrows only where a cone was bounded (a cone too wide has no axis)."""
+    import conecull
+    from conecull.trace import reason_name
+    from conecull.viz import layers as L
+
+    F, P = load_sequence("fold")
+    path = str(tmp_path / "fold.rrd")
+    record(path, F, P, frame_range=range(24, 30))
+    culled = rows_by_frame(path, "/scene/culled", "LineStrips3D:labels")
+    strips = rows_by_frame(path, "/scene/culled", "LineStrips3D:strips")
+    boxes = rows_by_frame(path, "/scene/failed_nodes", "Boxes3D:labels")
+    arrows = rows_by_frame(path, "/scene/cones", "Arrows3D:vectors")
+    col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]))
+    col.dcd(P[0])
+    ct, bvh = col.contour_arrays(), col.bvh_arrays()
+    n_boxes = shades = 0
+    for k in range(24, 30):
+        res = col.dcd(P[k], trace=True)
+        s, tr = res.stats, res.trace
+        passed = tr.contour["node"][tr.contour["reason"] == 0]
+        assert len(passed) == s["contour_passed"] > 0
+        assert culled[k] == [f"node {n}: culled" for n in passed.tolist()], k
+        for n, strip in zip(passed.tolist(), strips[k]):  # the node's own boundary loop, closed
+            loop = ct["vertices"][ct["offsets"][n] : ct["offsets"][n + 1]]
+            assert np.allclose(np.asarray(strip), P[k][np.append(loop, loop[0])])
+        bad_cones = tr.cone["node"][~tr.cone["bounded"]].tolist()
+        failed = [f"node {n}: {reason_name(r)}" for n, r in zip(tr.contour["node"].tolist(), tr.contour["reason"].tolist())
+                  if r != 0]
+        assert sorted(boxes.get(k) or []) == sorted([f"node {n}: cone_too_wide" for n in bad_cones] + failed), k
+        assert len(boxes.get(k) or []) == s["cone_tests"] - s["cone_passed"] + s["contour_failed"] + s["contour_ineligible"]
+        n_boxes += len(boxes.get(k) or [])
+        vecs = np.asarray(arrows.get(k) or np.zeros((0, 3)), float).reshape(-1, 3)
+        assert (np.linalg.norm(vecs, axis=1) > 0).all(), k  # no zero-length arrow for a cone too wide
+        assert len(vecs) == s["cone_passed"] == s["contour_tests"], k  # one per bounded cone
+        # the faces: culled ones green, shaded by the depth of the culled node that holds them
+        lay = L.compute(col, F, P[k], res)
+        green = lay.face_status == L.CULLED
+        node = lay.face_node[green]
+        assert np.isin(node, passed).all()
+        t = L.CULLED_PALE * bvh["depth"][node] / bvh["depth"].max()
+        want = np.round(L.STATUS_COLORS[L.CULLED] + t[:, None] * (255.0 - L.STATUS_COLORS[L.CULLED]))
+        assert np.array_equal(lay.face_colors[green], want.astype(np.uint8))
+        shades = max(shades, len(np.unique(lay.face_colors[green], axis=0)))
+    assert n_boxes > 20 and shades > 2  # nodes culled at several depths: several greens
+
+
+def test_the_recording_says_what_it_is(tmp_path):
+    """/about names the method, DCD or CCD (and its arithmetic), the input and the frames, and
+    how the timeline reads; each plotted series carries a name in words."""
+    from conecull.viz.rerun_sink import SERIES_NAMES
+
+    F, P = load_sequence("fold")
+    for ccd, method in ((False, "nc+front"), (True, "cbc")):
+        path = str(tmp_path / f"{ccd}.rrd")
+        record(path, F, P, method=method, frame_range=range(26, 28), ccd=ccd, source="fold scene",
+               arithmetic="conservative" if ccd else "exact")
+        about = next(iter(rows_by_frame_static(path, "/about", "TextDocument:text")))
+        assert f"Method **{method}**" in about and "fold scene" in about and "2048 triangles" in about
+        if ccd:
+            assert "**CCD** (conservative arithmetic)" in about and "step from frame k to frame k + 1" in about
+            assert "26..27" in about
+        else:
+            assert "**DCD**" in about and "front" in about
+        names = rows_by_frame_static(path, "/stats/tests/box", "SeriesLines:names")
+        assert names == [SERIES_NAMES["/stats/tests/box"]]
+
+
+def rows_by_frame_static(path, entity, column):
+    """The static rows of `column` for `entity` (logged once, without a frame)."""
+    out = []
+    for chunk in RrdReader(path).stream().collect().stream():
+        rb = chunk.to_record_batch()
+        if (rb.schema.metadata or {}).get(b"rerun:entity_path", b"").decode() != entity:
+            continue
+        if column in rb.schema.names and "frame" not in rb.schema.names:
+            for v in rb.column(rb.schema.names.index(column)).to_pylist():
+                out.append(v[0] if isinstance(v, list) and len(v) == 1 and isinstance(v[0], str) else v)
+    return out
+
+
+def test_methods_without_cones_record_no_cone_layers(tmp_path):
+    """aabb has no cones nor contours: no empty layers nor always-zero series for them; its own
+    counter, the box tests, is plotted (as for every method), and the log says why nothing is culled."""
+    F, P = load_sequence("fold")
+    path = str(tmp_path / "aabb.rrd")
+    stats = record(path, F, P, method="aabb", frame_range=[28])
+    got = _entities(path)
+    assert not any(e.startswith(("/scene/cones", "/scene/contours", "/scene/culled", "/scene/failed_nodes",
+                                 "/stats/verdict", "/stats/tests/cone", "/stats/tests/contour")) for e in got), got
+    assert rows_by_frame(path, "/stats/tests/box", "Scalars:scalars")[28] == [stats[0]["bv_tests"]]
+    assert any("no normal cones" in t for _, t in _log_rows(path)[28])
+
+
+def test_the_log_says_what_culling_proved_and_whence_the_front(tmp_path):
+    F, P = load_sequence("fold")
+    path = str(tmp_path / "front.rrd")
+    record(path, F, P, method="nc+front", frame_range=range(23, 27))
+    log = {k: [t for _, t in rows] for k, rows in _log_rows(path).items()}
+    assert any(t.startswith("the root (all 2048 triangles) was culled") for t in log[23])
+    assert any(t.startswith("front: 0 entries") and "since the previous query (frame 0)" in t for t in log[23])
+    assert any("since the previous query (frame 25)" in t for t in log[26])
+    assert any(" nodes culled, " in t and "the largest: node " in t for t in log[26])
+
+
+def test_a_small_mesh_records_with_the_default_depth(tmp_path):
+    """The boxes drawn default to depth 4, or the BVH's deepest level when it is shallower (a
+    bug-report mesh of two triangles); only a depth asked for explicitly is refused."""
+    F = np.array([[0, 1, 2], [1, 3, 2]])
+    V = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], float)
+    path = str(tmp_path / "tiny.rrd")
+    record(path, F, np.stack([V, V + 0.1]))
+    boxes = rows_by_frame(path, "/scene/bvh", "Boxes3D:half_sizes")
+    assert len(boxes[0]) == 1  # the root: depth 0 is this BVH's deepest
+    with pytest.raises(ValueError, match=r"bvh_depth: 1 is deeper than this mesh's BVH, whose nodes are at depths 0\.\.0"):
+        record(path, F, np.stack([V, V]), bvh_depth=1)
+
+
+def test_record_refuses_what_a_dcd_recording_cannot_use(tmp_path):
+    F, P = load_sequence("fold")
+    with pytest.raises(ValueError, match=r"arithmetic: 'float' is a CCD mode"):
+        record(str(tmp_path / "x.rrd"), F, P, arithmetic="float")
+    with pytest.raises(ValueError, match=r"frames: CCD records the step from each frame k to k \+ 1, and the input has one frame"):
+        record(str(tmp_path / "x.rrd"), F, P[:1], ccd=True)
 
 
 def test_a_bvh_depth_deeper_than_the_bvh_is_refused(tmp_path):

@@ -392,3 +392,28 @@ def test_viewer_refuses_ccd_it_cannot_show():
     with pytest.raises(ValueError, match="ccd: a CCD step needs two frames, the sequence has 1"):
         ViewerApp(F, P[:1], port=free_port(), ccd=True)
     assert main(["view", "--ccd", "--method", "sct", "--port", str(free_port())]) == 2
+
+
+def test_culled_patches_and_cone_axes_are_drawn():
+    """The culled nodes' contours (one closed loop each) are drawn as segments, and cone arrows
+    for the nodes whose cone was bounded (culled ones included): a cone too wide has no axis (its
+    arrow had zero length)."""
+    from conecull.viz import layers as L
+
+    app, F, frames = _fold_app()
+    try:
+        app.frame.value = 28
+        app.show_cones.value = True
+        app.update()
+        lay = L.compute(app.col, app.faces, app.V, app.res)
+        culled = _node(app, "/culled")
+        assert culled is not None and culled.visible
+        points = np.asarray(culled._impl.props.points)
+        assert len(lay.culled_strips) > 3 and len(points) == sum(len(s) - 1 for s in lay.culled_strips)
+        arrows = _node(app, "/cones")
+        assert arrows is not None
+        assert len(np.asarray(arrows._impl.props.points)) == len(lay.axis_nodes) == len(lay.culled_nodes)
+        app.show_culled.value = False
+        assert not _node(app, "/culled").visible
+    finally:
+        app.close()
