@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# One entry point for a fresh machine that has python3, g++ and cmake:
+# One entry point for a fresh machine that has python3 and g++ (cmake comes from PyPI if missing):
 #   ./dev.sh demo     set up, then record the demo (demo.rrd: a sheet folding onto itself)
 #   ./dev.sh test     set up, then run the test suite
 #   ./dev.sh bench    set up, then run the benchmarks (tables, report.md, plots, JSON in bench-results/)

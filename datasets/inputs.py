@@ -149,6 +149,10 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     # real (complex would lose its imaginary part, silently), (T >= 1, n, 3), finite: each
     # message names the file (and the array read), and the frame of a non-finite coordinate
     frames = checks.frames("positions", raw, n_vertices=len(V), source=shown)
+    if raw.dtype.kind in "iu":  # read exactly, but a query takes floats: integers are likely truncated ones
+        warnings.warn(f"positions: '{shown}' holds integer coordinates (dtype {raw.dtype}), read as they are; if "
+                      "they were rounded from floats, the collisions found are those of the rounded poses",
+                      stacklevel=2)
     check_fans(mesh, frames, [f"frame {t} of '{shown}'" for t in range(len(frames))])
     _warn_polygons(mesh, os.path.basename(source))
     return F, frames

@@ -238,11 +238,24 @@ def _read_cached(path: Path, frames: int):
     return F, P
 
 
+def min_resolution(scene: Scene) -> int:
+    """The smallest resolution `load` takes for the scene (3, or more where the mesh needs it)."""
+    for r in range(3, scene.default_resolution + 1):
+        try:
+            scene.triangles(r)
+            return r
+        except (ValueError, ZeroDivisionError):
+            continue
+    return scene.default_resolution
+
+
 def describe() -> list[str]:
-    """One line per scene: name, triangles at default resolution, frames, effects, stands for."""
-    rows = [(s.name, str(s.triangles(s.default_resolution)), str(s.default_frames), s.stands_for,
+    """One line per scene: name, triangles at the default resolution, frames, the resolution
+    (default and least; `--resolution` sets it), stands for, effects, description."""
+    rows = [(s.name, str(s.triangles(s.default_resolution)), str(s.default_frames),
+             f"{s.default_resolution} (>= {min_resolution(s)})", s.stands_for,
              ", ".join(s.effects) if s.effects else "kinematic", s.description) for s in SCENES.values()]
     # column widths from the contents, so a long effects list never shifts the columns after it
-    w = [max(len(r[c]) for r in rows) for c in range(5)]
-    return [f"{n:{w[0]}s}  {t:>{w[1]}s} triangles  {f:>{w[2]}s} frames  {p:{w[3]}s}  {e:{w[4]}s}  {d}"
-            for n, t, f, p, e, d in rows]
+    w = [max(len(r[c]) for r in rows) for c in range(6)]
+    return [f"{n:{w[0]}s}  {t:>{w[1]}s} triangles  {f:>{w[2]}s} frames  resolution {r:{w[3]}s}  {p:{w[4]}s}  "
+            f"{e:{w[5]}s}  {d}" for n, t, f, r, p, e, d in rows]

@@ -38,6 +38,17 @@ def test_bad_faces(faces, match):
         conecull.Mesh(faces)
 
 
+def test_faces_as_an_object_array_of_small_ints():
+    """An object array of Python ints that fit is a mesh like its int array (it was refused as a
+    vertex index 'too large'); a mixed one (an int and a float) is still not integers."""
+    mesh = conecull.Mesh(np.array(F.tolist(), dtype=object))
+    assert np.array_equal(mesh.faces, F)
+    with pytest.raises(ValueError, match=r"faces: vertex index -1 in row 0|faces: negative vertex index -1 in row 0"):
+        conecull.Mesh(np.array([[0, 1, -1]], dtype=object))
+    with pytest.raises(ValueError, match=r"faces: expected an integer array, got dtype object"):
+        conecull.Mesh(np.array([[0, 1, 2.0]], dtype=object))
+
+
 def test_face_index_out_of_range_with_n_vertices():
     with pytest.raises(ValueError, match=r"n_vertices: 10 is smaller than the largest face index \+ 1 \(25\)"):
         conecull.Mesh(F, n_vertices=10)
@@ -311,8 +322,10 @@ def test_collider_attributes_are_read_only():
         with pytest.raises(AttributeError):
             setattr(c, name, value)
     assert c.method == "nc" and c.leaf_size == 2 and c.mesh.n_faces == len(F)
-    with pytest.raises(ValueError, match=r"method: 'nc' keeps no BVTT front"):
+    with pytest.raises(ValueError, match=r"method: 'nc' keeps no BVTT front; front_arrays needs"):
         c.front_arrays()
+    with pytest.raises(ValueError, match=r"method: 'nc' keeps no BVTT front; front_load needs"):  # its own name
+        c.front_load()
 
 
 def test_mesh_too_large_for_memory_is_refused_before_building(monkeypatch):
@@ -643,3 +656,17 @@ def test_single_query_points_are_named_with_their_component(bad, msg):
         conecull.vertex_face_ccd(z, z, z, z, z, z, bad, z)
     with pytest.raises(ValueError, match=msg.replace("f1_t1", "eb0_t1")):
         conecull.edge_edge_ccd(z, z, z, z, z, z, bad, z)
+
+
+def test_the_packages_parts_load_on_first_use():
+    """`import conecull` then `conecull.datasets.load(...)` works (it raised AttributeError), in a
+    fresh interpreter where nothing else imported the part first; the core alone pulls in none of
+    the viewers."""
+    import subprocess
+    import sys
+
+    code = ("import sys, conecull; assert 'rerun' not in sys.modules and 'viser' not in sys.modules; "
+            "F, P = conecull.datasets.load('fold'); assert F.shape == (2048, 3); "
+            "assert conecull.trace.REASONS and conecull.viz.__name__ == 'conecull.viz'")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr

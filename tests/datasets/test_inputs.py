@@ -177,6 +177,21 @@ def test_npz_positions_are_named_or_refused(tmp_path):
         load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "m.ply"))
 
 
+def test_integer_positions_warn(tmp_path):
+    """Integer coordinates in a positions file are read exactly but said: a query takes floats
+    (`dcd` refuses integers), and integers there are likely floats rounded on saving."""
+    (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    P = np.arange(18).reshape(2, 3, 3)
+    np.save(tmp_path / "p.npy", P)
+    with pytest.warns(UserWarning, match=r"positions: '.*p\.npy' holds integer coordinates \(dtype int64\)"):
+        _, got = load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "p.npy"))
+    assert got.dtype == np.float64 and np.array_equal(got, P)
+    np.save(tmp_path / "f.npy", P.astype(float))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "f.npy"))
+
+
 def test_obj_text_forms(tmp_path):
     """A UTF-8 byte order mark (it hid the first vertex: every id shifted), a comment ending in a
     backslash (a Windows path: it swallowed the next line), CR line endings, a continuation on the

@@ -167,3 +167,21 @@ def test_cache_key_follows_the_core_for_simulated_scenes(monkeypatch):
     monkeypatch.setattr(registry, "_core_digest", lambda: "another core")
     after = registry._key(simulated, 10, 5), registry._key(kinematic, 10, 5)
     assert after[0] != before[0] and after[1] == before[1]
+
+
+def test_listing_gives_each_scenes_resolution_and_its_least(tmp_path, monkeypatch):
+    """`conecull scenes` names the default resolution and the least `load` takes (--resolution's
+    range was learnt only from an error): the least loads, one less is refused naming it."""
+    import pytest
+
+    from conecull.datasets.registry import min_resolution
+
+    monkeypatch.setenv("CONECULL_CACHE", str(tmp_path))
+    lines = dict(zip(datasets.SCENES, datasets.describe()))
+    for name, s in datasets.SCENES.items():
+        assert f"resolution {s.default_resolution} (>= {min_resolution(s)})" in lines[name], name
+    assert min_resolution(datasets.SCENES["squishy"]) == 8
+    F, P = datasets.load("squishy", resolution=8, frames=2)
+    assert len(F) == datasets.SCENES["squishy"].triangles(8)
+    with pytest.raises(ValueError, match=r"resolution: 7 does not suit scene 'squishy'"):
+        datasets.load("squishy", resolution=7, frames=2)

@@ -203,7 +203,7 @@ def test_frame_specs():
 
 def test_scene_listing_columns_line_up():
     lines = datasets.describe()
-    for word in (" triangles", " frames"):
+    for word in (" triangles", " frames", " resolution"):
         assert len({line.index(word) for line in lines}) == 1, word
     # the description (last column) starts at the same place on every line
     starts = {line.index(s.description) for line, s in zip(lines, datasets.SCENES.values())}

@@ -19,3 +19,15 @@ from conecull._api import ARITHMETIC, CCD_METHODS, CcdResult, DcdResult, Mesh, S
 __all__ = ["Mesh", "SelfCollider", "DcdResult", "CcdResult", "METHODS", "CCD_METHODS", "ARITHMETIC", "vertex_face_ccd",
            "edge_edge_ccd"]
 __version__ = "0.1.0"
+
+# The package's other parts load on first use (`conecull.datasets.load(...)` after only `import
+# conecull`), so importing the core does not pull in trimesh, rerun or viser.
+_SUBMODULES = ("datasets", "viz", "app", "trace")
+
+
+def __getattr__(name):
+    if name in _SUBMODULES:
+        import importlib
+
+        return importlib.import_module(f"conecull.{name}")
+    raise AttributeError(f"module 'conecull' has no attribute {name!r}")

@@ -47,11 +47,16 @@ def _as_faces(faces) -> np.ndarray:
     # An empty mesh: [] or an empty (0, 3) array (a float literal like np.zeros((0, 3)) too).
     if a.size == 0 and a.dtype.kind in "iuf" and (a.shape == (0,) or a.shape == (0, 3)):
         return np.zeros((0, 3), dtype=np.int32)
-    if a.dtype.kind == "O" and a.size and all(isinstance(x, int) and not isinstance(x, bool) for x in a.flat):
-        # Python ints beyond 64 bits (NumPy keeps them as objects): too large, not "not integers".
-        big = max(a.flat, key=abs)
-        raise ValueError(f"faces: vertex index {big} is {'too large' if big > 0 else 'negative'} (ids are in "
-                         f"[0, 2^31 - 2])")
+    if a.dtype.kind == "O" and a.size and all(isinstance(x, (int, np.integer)) and not isinstance(x, bool)
+                                              for x in a.flat):
+        # Python ints in an object array: an int array if they fit in 64 bits; beyond (NumPy keeps
+        # such ints as objects), too large, not "not integers".
+        try:
+            a = a.astype(np.int64)
+        except OverflowError:
+            big = max(a.flat, key=abs)
+            raise ValueError(f"faces: vertex index {big} is {'too large' if big > 0 else 'negative'} (ids are in "
+                             f"[0, 2^31 - 2])") from None
     if a.dtype.kind not in "iu":
         raise ValueError(f"faces: expected an integer array, got dtype {a.dtype}")
     if a.ndim != 2 or a.shape[1] != 3:
@@ -357,15 +362,19 @@ class SelfCollider:
         Front_X holds each entry, "count" (n_nodes,) the size of Front_X (0: no front kept there),
         "resting" (n_nodes,) how many more queries X runs Collide from the top, untracked, because
         its front churned (0: tracked when visited)."""
+        self._check_front("front_arrays", kind)
+        return self._core.front_arrays(kind == "ccd")
+
+    def _check_front(self, what: str, kind) -> None:
         if not self.method.endswith("+front"):
-            raise ValueError(f"method: {self.method!r} keeps no BVTT front; front_arrays needs 'aabb+front' or 'nc+front'")
+            raise ValueError(f"method: {self.method!r} keeps no BVTT front; {what} needs 'aabb+front' or 'nc+front'")
         if not isinstance(kind, str) or kind not in ("dcd", "ccd"):
             raise ValueError(f"kind: expected 'dcd' or 'ccd', got {kind!r}")
-        return self._core.front_arrays(kind == "ccd")
 
     def front_load(self, kind: str = "dcd") -> np.ndarray:
         """Per face, how many entries of the front (see front_arrays) have the face below one of
         their two BVH nodes: where on the mesh the front's work is."""
+        self._check_front("front_load", kind)
         fr = self.front_arrays(kind)
         bvh = self._core.bvh_arrays()
         n_faces = self.mesh.n_faces
