@@ -29,11 +29,39 @@ def _folded_sheet_frames(n_triangles: int, n_frames: int):
     return F, [fold(V, a, radius=0.03) for a in angles]
 
 
-def _time_methods(mesh, frames, configs, repeats, threads=1):
+def _answer(res):
+    """A query's result arrays: DCD pairs, or CCD vf and ee (each sorted, so equal answers are
+    equal arrays)."""
+    return (res.vf, res.ee) if hasattr(res, "vf") else (res.pairs,)
+
+
+def _same_answer(a, b) -> bool:
+    return all(np.array_equal(x, y) for x, y in zip(_answer(a), _answer(b)))
+
+
+def _disagree(suite: str, who: str, ref: str, where: str) -> RuntimeError:
+    # Raised, not asserted: `python -O` strips asserts, and a benchmark of a wrong answer is worthless.
+    return RuntimeError(f"bench {suite}: {who} disagrees with {ref} {where}; please report this as a bug")
+
+
+def _size_label(n: int) -> str:
+    """A triangle count for a label: '64K', '1.5K', or the count itself below 100 ('0K' said nothing)."""
+    if n >= 10000:
+        return f"{n // 1000}K"
+    return f"{n / 1000:.1f}K" if n >= 100 else str(n)
+
+
+def _cfg_name(cfg, threads) -> str:
+    return f"{cfg[0]} (leaf {cfg[1]}, {cfg[2] if len(cfg) > 2 else threads} thread(s))"
+
+
+def _time_methods(mesh, frames, configs, repeats, threads=1, suite="dcd"):
     """Per frame k >= 1 and per run, every (method, leaf size) answers an untimed query of frame
     k - 1, then a timed one of frame k: a front method starts from the front frame k - 1 left,
     as in a simulation (timing the same frame twice in a row would hand it a perfect front).
-    The configurations take turns within each run, so load on a shared machine hits all alike."""
+    The configurations take turns within each run, so load on a shared machine hits all alike.
+    Every timed answer (each configuration, each run) is checked equal, pair for pair, to the
+    first configuration's first run of that frame."""
     cols, build_s = {}, {}
     for cfg in configs:
         cols[cfg] = conecull.SelfCollider(mesh, method=cfg[0], leaf_size=cfg[1], threads=cfg[2] if len(cfg) > 2 else threads)
@@ -41,14 +69,18 @@ def _time_methods(mesh, frames, configs, repeats, threads=1):
         cols[cfg].dcd(frames[0])  # builds the BVH and contours
         build_s[cfg] = time.perf_counter() - t0
     per_frame = {cfg: [] for cfg in configs}
-    for prev, V in zip(frames[:-1], frames[1:]):
+    first = configs[0]
+    for k, (prev, V) in enumerate(zip(frames[:-1], frames[1:]), start=1):
         runs = {cfg: [] for cfg in configs}
-        for _ in range(repeats):
+        for r in range(repeats):
             for cfg, col in cols.items():
                 col.dcd(prev)
                 t = time.perf_counter()
                 res = col.dcd(V)
                 runs[cfg].append((time.perf_counter() - t, res))
+                if not _same_answer(res, runs[first][0][1]):
+                    raise _disagree(suite, f"{_cfg_name(cfg, threads)} in run {r + 1}",
+                                    f"{_cfg_name(first, threads)} in run 1", f"on the colliding pairs of frame {k}")
         for cfg, rs in runs.items():
             per_frame[cfg].append({
                 "wall_ms": statistics.median(1e3 * w for w, _ in rs),
@@ -72,15 +104,11 @@ def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5,
     configs = [(method, leaf) for method in conecull.METHODS for leaf in (1, 2, 4)]
     build, timed = _time_methods(mesh, frames, configs, repeats, threads)
     results = []
-    pairs_ref = None
-    for method, leaf in configs:
+    for method, leaf in configs:  # their pairs were checked equal, frame by frame, by _time_methods
         pf = timed[method, leaf]
         med = lambda key: statistics.median(f[key] for f in pf)  # noqa: E731
         medstat = lambda key: statistics.median(f["stats"][key] for f in pf)  # noqa: E731
         pairs = [f["pairs"] for f in pf]
-        if pairs_ref is None:
-            pairs_ref = pairs
-        assert pairs == pairs_ref, "methods disagree on the number of colliding pairs"
         row = {
             "method": method, "leaf_size": leaf, "build_s": build[method, leaf], "query_ms": med("wall_ms"),
             "refit_ms": med("seconds_refit"), "traversal_ms": med("seconds_traversal"),
@@ -104,7 +132,7 @@ def run_dcd_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5,
                    "results": results}, fh, indent=1)
     print()
     print(f"(medians over frames of the per-frame median of {repeats} runs; front entries: kept after the query; "
-          f"JSON: {path})")
+          f"every method's colliding pairs checked equal, frame by frame and run by run; JSON: {path})")
     return 0
 
 
@@ -132,15 +160,21 @@ def run_trace_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 
         col.dcd(frames[0], False)
         variants[name] = (col, trace)
     times = {name: [] for name in variants}
-    for V in frames:
+    for k, V in enumerate(frames):
         runs = {name: [] for name in variants}
         names = list(variants)
+        ref = None
         for r in range(repeats):
             for name in names[r % 3:] + names[: r % 3]:  # rotate the order: no position bias
                 col, trace = variants[name]
                 t = time.perf_counter()
-                col.dcd(V, trace)
+                pairs = col.dcd(V, trace)[0]  # the core's (pairs, stats, trace events)
                 runs[name].append(1e3 * (time.perf_counter() - t))
+                if ref is None:
+                    ref = (name, pairs)
+                elif not np.array_equal(pairs, ref[1]):
+                    raise _disagree("trace", f"{name} in run {r + 1}", f"{ref[0]} in run 1",
+                                    f"on the colliding pairs of frame {k}")
         for name in variants:
             times[name].append(statistics.median(runs[name]))
     med = {name: statistics.median(v) for name, v in times.items()}
@@ -174,7 +208,7 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
     if data is None:
         print(f"{shared_data_missing()}: only the generated step is measured")
 
-    steps = [(f"{name} ({len(F) // 1000}K)", F, *rest) for name, F, *rest in shared_steps()]
+    steps = [(f"{name} ({_size_label(len(F))})", F, *rest) for name, F, *rest in shared_steps()]
     steps.extend(_generated_ccd_steps(n_triangles))
 
     print(f"# CCD: what accuracy costs in time (method nc, {threads} thread(s), median of {repeats} runs)")
@@ -187,14 +221,19 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
         col = conecull.SelfCollider(mesh, method="nc", threads=threads)
         col.dcd(V0)  # build
         # the modes take turns within each repeat, so load on a shared machine hits them alike
-        times, last = {m: [] for m in ("float", "conservative", "exact")}, {}
-        for _ in range(repeats):
+        times, runs = {m: [] for m in ("float", "conservative", "exact")}, {}
+        for r in range(repeats):
             for mode in times:
                 t = time.perf_counter()
-                last[mode] = col.ccd(V0, V1, arithmetic=mode)
+                res = col.ccd(V0, V1, arithmetic=mode)
                 times[mode].append(time.perf_counter() - t)
-        results = {m: (statistics.median(times[m]), last[m]) for m in times}
-        if vf_t is None:  # the generated step: exact mode is the ground truth
+                runs.setdefault(mode, []).append(res)
+                if not _same_answer(res, runs[mode][0]):
+                    raise _disagree("ccd", f"{mode} (run {r + 1})", f"{mode} (run 1)",
+                                    f"on the VF / EE contacts of {name}")
+        results = {m: (statistics.median(times[m]), runs[m][-1]) for m in times}
+        generated = vf_t is None
+        if generated:  # no ground truth: exact mode is the reference, so its own FN / FP say nothing
             ex = results["exact"][1]
             vf_t = {tuple(r) for r in ex.vf.tolist()}
             ee_t = {tuple(r) for r in ex.ee.tolist()}
@@ -203,11 +242,15 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
             ee = {tuple(r) for r in res.ee.tolist()}
             fn = len(vf_t - vf) + len(ee_t - ee)
             fp = len(vf - vf_t) + len(ee - ee_t)
+            if generated and mode == "exact":
+                fn = fp = None
             tests = res.stats["elementary_tests"]
-            us = 1e6 * res.stats["seconds_elementary"] / max(1, tests)
+            # the median of the runs, as the header says (the counts are the same in every run)
+            us = statistics.median(1e6 * x.stats["seconds_elementary"] / max(1, tests) for x in runs[mode])
             rows.append({"step": name, "mode": mode, "ms": 1e3 * secs, "elementary_tests": tests, "us_per_test": us,
                          "fn": fn, "fp": fp, "stats": {k: v for k, v in res.stats.items() if not isinstance(v, dict)}})
-            print(f"| {name} | {mode} | {1e3 * secs:.1f} | {tests} | {us:.2f} | {fn} | {fp} |")
+            fn_fp = "= ref | = ref" if fn is None else f"{fn} | {fp}"
+            print(f"| {name} | {mode} | {1e3 * secs:.1f} | {tests} | {us:.2f} | {fn_fp} |")
         ratio = results["exact"][0] / results["float"][0]
         print(f"| {name} | exact / float | {ratio:.2f}x | | | | |")
 
@@ -241,6 +284,9 @@ def run_ccd_bench(n_triangles: int = 64000, n_frames: int = 0, repeats: int = 3,
     with open(path, "w") as fh:
         json.dump({"repeats": repeats, "rows": rows}, fh, indent=1, default=float)
     print()
+    print("(FN / FP: against the ground truth on the real steps; the generated steps have none, so there the "
+          "reference is exact CCD itself: its own row says '= ref', the other modes are counted against it; "
+          "us per test: seconds in the elementary tests / tests, median of the runs)")
     print(f"JSON: {path}")
     return 0
 
@@ -270,13 +316,17 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
             col.dcd(frames[0])  # builds the BVH and contours
         per = {m: [] for m in methods}
         results = {}
-        for q in queries:
+        for k, q in enumerate(queries, start=1):
             runs = {m: [] for m in methods}
-            for _ in range(repeats):
+            for r in range(repeats):
                 for m, col in cols.items():
                     t = time.perf_counter()
                     res = col.dcd(q[0]) if q[1] is None else col.ccd(q[0], q[1])
                     runs[m].append((time.perf_counter() - t, res))
+                    if not _same_answer(res, runs[methods[0]][0][1]):
+                        where = f"frame {k}" if kind == "DCD" else f"step {k - 1} -> {k}"
+                        raise _disagree("contour", f"{m} in run {r + 1}", f"{methods[0]} in run 1",
+                                        f"on the {kind} answer at {where}")
             for m, rs in runs.items():
                 st = rs[0][1].stats
                 per[m].append({
@@ -286,9 +336,7 @@ def run_contour_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
                     "contour_tests": st["contour_tests"], "contour_passed": st["contour_passed"],
                     "contour_edges": st["contour_edges"], "colliding_pairs": st["colliding_pairs"],
                 })
-        ref = [f["colliding_pairs"] for f in per[methods[0]]]
-        for m in methods:
-            assert [f["colliding_pairs"] for f in per[m]] == ref, f"{kind}: {m} disagrees with {methods[0]}"
+        for m in methods:  # their answers were checked equal above, query by query
             med = {k: statistics.median(f[k] for f in per[m]) for k in per[m][0]}
             us = 1e3 * sum(f["contour_ms"] for f in per[m]) / max(1, sum(f["contour_tests"] for f in per[m]))
             results[m] = med
@@ -327,8 +375,8 @@ def _generated_ccd_steps(n_triangles: int):
     # The same step with every vertex jittered by 1e-5: no exact symmetries, as in a simulation.
     rng = np.random.default_rng(0)
     J = 1e-5 * rng.standard_normal(V.shape)
-    return [(f"generated fold ({len(F) // 1000}K, exact grid)", F, G0, G1, None, None),
-            (f"generated fold ({len(F) // 1000}K, jittered)", F, G0 + J, G1 + J, None, None)]
+    return [(f"generated fold ({_size_label(len(F))}, exact grid)", F, G0, G1, None, None),
+            (f"generated fold ({_size_label(len(F))}, jittered)", F, G0 + J, G1 + J, None, None)]
 
 
 def _compute_ceiling(threads: int, pairs: int = 5) -> float:
@@ -365,13 +413,15 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
     print("|---|---|---|---|---|---|---|")
     methods = ("aabb", "nc", "aabb+front", "nc+front")
     configs = [(m, 2, t) for m in methods for t in counts]
-    _, timed = _time_methods(mesh, frames, configs, repeats)
+    _, timed = _time_methods(mesh, frames, configs, repeats, suite="threads")  # checks every answer's pairs
     rows = []
     for m in methods:
         base = None
         for t in counts:
             pf = timed[m, 2, t]
-            assert [f["stats"] for f in pf] == [f["stats"] for f in timed[m, 2, 1]], "thread counts disagree"
+            for k, (f, f1) in enumerate(zip(pf, timed[m, 2, 1]), start=1):
+                if f["stats"] != f1["stats"]:  # the counters too are the same for any thread count
+                    raise _disagree("threads", f"{m} on {t} threads", "1 thread", f"on the counters of frame {k}")
             med = {k: statistics.median(f[k] for f in pf) for k in ("wall_ms", *STAGES)}
             base = base or med["wall_ms"]
             row = {"kind": "dcd", "query": m, "threads": t, "query_ms": med["wall_ms"], "refit_ms": med["seconds_refit"],
@@ -391,16 +441,17 @@ def run_threads_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int 
         col.dcd(V0)  # build
     for mode in ("float", "conservative", "exact"):
         runs = {t: [] for t in counts}
-        for _ in range(repeats):
+        for r in range(repeats):
             for t, col in cols.items():
                 w = time.perf_counter()
                 res = col.ccd(V0, V1, arithmetic=mode)
                 runs[t].append((time.perf_counter() - w, res))
-        ref = runs[1][0][1]
+                if not _same_answer(res, runs[1][0][1]):
+                    raise _disagree("threads", f"ccd {mode} on {t} threads (run {r + 1})", "1 thread (run 1)",
+                                    f"on the VF / EE contacts of {name}")
         base = None
         for t in counts:
             res = runs[t][0][1]
-            assert np.array_equal(res.vf, ref.vf) and np.array_equal(res.ee, ref.ee), "thread counts disagree"
             med = {k: statistics.median(r.stats[k] for _, r in runs[t]) for k in (*STAGES, "seconds_pairs")}
             wall = statistics.median(w for w, _ in runs[t])
             base = base or wall
@@ -430,8 +481,11 @@ SKIPPABLE = {"all": ("scenes", "steps", "ipctk", "contour", "ccd", "scaling", "t
 
 
 def check_skip(suite: str, skip: str | None) -> set:
-    """--skip's comma-separated sections for `suite`, each one it can leave out."""
+    """--skip's comma-separated sections for `suite`, each one it can leave out (None: none)."""
     sections = set(filter(None, (skip or "").split(",")))
+    if skip is not None and not sections:  # `--skip ""` or `--skip ,`: a typo, not "skip nothing"
+        raise ValueError(f"skip: expected comma-separated sections to leave out ({', '.join(SKIPPABLE[suite])}), "
+                         f"got {skip!r}")
     unknown = sections - set(SKIPPABLE[suite])
     if unknown:
         raise ValueError(f"skip: {suite} can leave out {', '.join(repr(x) for x in SKIPPABLE[suite])}, "
@@ -440,7 +494,7 @@ def check_skip(suite: str, skip: str | None) -> set:
 
 
 def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: int = 5, out: str = "bench-results",
-                        threads: int = 1, skip: str = "") -> int:
+                        threads: int = 1, skip: str | None = None) -> int:
     """The one-bit questions of a simulator's line search, against the full queries that list
     every collision: "is the end pose intersection-free?" (dcd(V1, stop_at_first=True)) and "is
     the step collision-free?" (ccd(V0, V1, stop_at_first=True), exact), on the shared real steps
@@ -448,7 +502,12 @@ def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: in
     query once (a front method then starts from its own front); full and first-hit runs take
     turns; medians. Checked: the first hit is one of the full query's collisions, or there are none."""
     del n_frames  # single steps
-    steps = ([] if "steps" in check_skip("first-hit", skip) else shared_steps()) + [_generated_ccd_steps(n_triangles)[1]]
+    real = [] if "steps" in check_skip("first-hit", skip) else shared_steps()
+    if not real and "steps" not in check_skip("first-hit", skip):  # said, as `bench ccd` says it
+        from conecull.datasets.shared import shared_data_missing
+
+        print(f"{shared_data_missing()}: only the generated step is measured")
+    steps = real + [_generated_ccd_steps(n_triangles)[1]]
     print(f"# First hit against the full query: {len(steps)} steps, {repeats} runs (medians), {threads} thread(s), "
           "CCD in exact arithmetic")
     print()
@@ -473,12 +532,21 @@ def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: in
                     t[key].append((time.perf_counter() - w, res))
             d, d1, c, c1 = (t[k][0][1] for k in ("dcd", "dcd1", "ccd", "ccd1"))
             full_pairs = {tuple(p) for p in d.pairs.tolist()}
-            if not ((len(d1.pairs) == 1 and tuple(d1.pairs[0]) in full_pairs) or (len(d1.pairs) == 0 == len(full_pairs))):
-                raise AssertionError(f"{name}, {method}: dcd(stop_at_first) disagrees with the full DCD query")
-            hits = [("vf", tuple(p)) for p in c1.vf.tolist()] + [("ee", tuple(p)) for p in c1.ee.tolist()]
             full_hits = {("vf", tuple(p)) for p in c.vf.tolist()} | {("ee", tuple(p)) for p in c.ee.tolist()}
-            if not ((len(hits) == 1 and hits[0] in full_hits) or (not hits and not full_hits)):
-                raise AssertionError(f"{name}, {method}: ccd(stop_at_first) disagrees with the full CCD query")
+            for r in range(repeats):  # every run: the full answers as the first run's, each first hit among them
+                if not _same_answer(t["dcd"][r][1], d):
+                    raise _disagree("first-hit", f"{method}'s full DCD query (run {r + 1})", "run 1", f"on {name}")
+                if not _same_answer(t["ccd"][r][1], c):
+                    raise _disagree("first-hit", f"{method}'s full CCD query (run {r + 1})", "run 1", f"on {name}")
+                p1 = t["dcd1"][r][1].pairs
+                if not ((len(p1) == 1 and tuple(p1[0]) in full_pairs) or (len(p1) == 0 == len(full_pairs))):
+                    raise _disagree("first-hit", f"{method}'s dcd(stop_at_first) (run {r + 1})", "the full DCD query",
+                                    f"on {name}")
+                h1 = t["ccd1"][r][1]
+                hits = [("vf", tuple(p)) for p in h1.vf.tolist()] + [("ee", tuple(p)) for p in h1.ee.tolist()]
+                if not ((len(hits) == 1 and hits[0] in full_hits) or (not hits and not full_hits)):
+                    raise _disagree("first-hit", f"{method}'s ccd(stop_at_first) (run {r + 1})", "the full CCD query",
+                                    f"on {name}")
             ms = {k: 1e3 * statistics.median(w for w, _ in v) for k, v in t.items()}
             pairs = lambda s: s["vf_candidates"] + s["ee_candidates"]  # noqa: E731
             tests = lambda s: s["vf_tests"] + s["ee_tests"]  # noqa: E731

@@ -293,6 +293,11 @@ def _check_bench_args(args) -> None:
             count(name, value, low, high)
     if args.from_json is not None and not args.from_json:
         raise ValueError("--from-json: expected the path of a paper.json, got ''")
+    if args.suite == "all" and args.from_json is None:  # an option only skipped sections read: before --out exists
+        from conecull.app.bench import check_skip
+        from conecull.app.evaluation import check_sections
+
+        check_sections(args, check_skip("all", args.skip))
     args.triangles = 64000 if args.triangles is None else args.triangles
     args.frames = TIMED_FRAMES if args.frames is None else args.frames
     args.out = "bench-results" if args.out is None else args.out

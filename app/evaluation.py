@@ -13,8 +13,9 @@ pass, so a front method always starts from the front the previous frame left (as
 simulation); within a frame the methods take turns, so load on a shared machine hits all alike.
 The first frame of a pass follows a jump (the last frame of the previous pass) and is not
 timed. Per frame the median over passes, then the median over frames. One thread unless told.
-Before timing, every method's result is checked equal to that of "nc" (and, on the shared
-steps, to the ground truth): a benchmark of a wrong answer is worthless.
+In every pass, every method's result is checked equal, pair for pair, to that of the first
+method of its list (DCD_METHODS or CCD_METHODS: "aabb"), and on the shared steps exact CCD to
+the ground truth: a benchmark of a wrong answer is worthless.
 """
 
 from __future__ import annotations
@@ -32,7 +33,7 @@ import numpy as np
 
 import conecull
 from conecull._api import DEFAULT_LEAF_SIZE
-from conecull.app.bench import shared_steps
+from conecull.app.bench import _disagree, _size_label, shared_steps
 from conecull.app.targets import judge, print_targets
 from conecull.datasets.checks import memory_bytes
 
@@ -85,7 +86,7 @@ def _colliders(F, frames, methods, threads, leaf_size=DEFAULT_LEAF_SIZE):
     return cols
 
 
-def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed=True):
+def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed=True, suite="all"):
     """One pass over the frames (DCD) or steps k -> k + 1 (CCD), the methods taking turns per
     frame: wall ms appended to ms[m][k] (if timed), the stats kept in stats[m][k], and every method
     checked against the first."""
@@ -101,11 +102,12 @@ def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed
             if ref is None:
                 ref = _pairs_of(res)
             elif _pairs_of(res) != ref:
-                raise AssertionError(f"{m} disagrees with {methods[0]} at {'step' if ccd else 'frame'} {k} "
-                                     f"({len(frames[k])} vertices)")
+                raise _disagree(suite, m, methods[0], f"at {'step' if ccd else 'frame'} {k} of the sequence "
+                                f"({len(frames[k])} vertices)")
 
 
-def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE):
+def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE,
+                  suite="all"):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
     and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
     cols = _colliders(F, frames, methods, threads, leaf_size)
@@ -113,7 +115,7 @@ def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmet
     ms = {m: [[] for _ in range(n)] for m in methods}
     stats = {m: [None] * n for m in methods}
     for _ in range(repeats):
-        _timed_pass(cols, frames, ms, stats, ccd=ccd, arithmetic=arithmetic)
+        _timed_pass(cols, frames, ms, stats, ccd=ccd, arithmetic=arithmetic, suite=suite)
     timed = range(1, n)
     if n == 1 and repeats > 1:  # one step: its first pass is the warm-up instead
         for m in methods:
@@ -160,13 +162,31 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
 
 
 def _scenes_of(args) -> tuple:
-    """--scenes (comma-separated, default PAPER_SCENES), each a known scene."""
-    from conecull.datasets import names
+    """--scenes (comma-separated, default PAPER_SCENES), each a known scene named once; and
+    --resolution, checked against each of them (the CLI calls this before any work)."""
+    from conecull.datasets import SCENES, names
+    from conecull.datasets.checks import count, fits_in_memory
 
     scenes = PAPER_SCENES if args.scenes is None else tuple(s for s in args.scenes.split(",") if s)
+    if not scenes:  # `--scenes ""` or `--scenes ,` ran no scene, silently
+        raise ValueError(f"--scenes: expected comma-separated scene names, got {args.scenes!r}; known: "
+                         f"{', '.join(names())}")
     for s in scenes:
         if s not in names():
             raise ValueError(f"--scenes: unknown scene '{s}'; known: {', '.join(names())}")
+    twice = sorted({s for s in scenes if scenes.count(s) > 1})
+    if twice:  # a scene twice would be measured, and weigh in the targets, twice
+        raise ValueError(f"--scenes: {', '.join(repr(s) for s in twice)} named more than once")
+    resolution = getattr(args, "resolution", None)
+    if resolution is not None:  # load() would refuse it only when the scene's turn comes, minutes in
+        count("--resolution", resolution, 3)
+        for s in scenes:
+            try:
+                n = SCENES[s].triangles(resolution)
+            except ValueError as e:
+                raise ValueError(f"--resolution: {resolution} does not suit scene '{s}' ({e})") from None
+            # as load() checks it: one frame's positions, about half a vertex per triangle
+            fits_in_memory("--resolution", 24.0 * (n / 2 + 1), f"one frame of scene '{s}' at resolution {resolution}")
     return scenes
 
 
@@ -187,10 +207,11 @@ def run_front(args) -> int:
     for name in scenes:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
-        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf)
+        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf,
+                                      suite="front")
         # Fig. 11's CCD row: the steps `bench all` times (by default).
         _, _, ccd = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
-                                  threads=threads, leaf_size=leaf)
+                                  threads=threads, leaf_size=leaf, suite="front")
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
                      "bound": front_bound(F, window[0], window[-1], linprog, leaf_size=leaf) if linprog else None})
     print(f"(BVH leaves of at most {leaf} triangles)")
@@ -512,13 +533,14 @@ def ipctk_narrow_phase(cand, F, E, V0, V1, ti, indices):
     return seconds, {tuple(r) for r in ids_fv[hf].tolist()}, {tuple(sorted(r)) for r in ids_ee[he].tolist()}
 
 
-def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CANDIDATES):
+def run_ipctk(steps, repeats, results, *, max_candidates=IPCTK_MAX_CANDIDATES):
     """ipctk side by side: its LBVH broad phase + Tight-Inclusion narrow phase over every candidate
-    (one thread) against our exact CCD (nc); its has_intersections against our DCD (nc) at the end
-    pose. Both times, and whether each found the ground-truth set. Above `max_candidates` (or what
-    memory holds) its narrow phase runs on a uniform random sample of that many candidates: the
-    time of those calls alone is a lower bound on its cost (every one of them is a call of the
-    full narrow phase), and scaled to all candidates an estimate."""
+    against our exact CCD (nc); its has_intersections against our DCD (nc) at the end pose; both
+    sides on one thread, whatever --threads (ipctk is pinned to one here). Both times, and whether
+    each found the ground-truth set. Above `max_candidates` (or what memory holds) its narrow
+    phase runs on a uniform random sample of that many candidates: the time of those calls alone
+    is a lower bound on its cost (every one of them is a call of the full narrow phase), and
+    scaled to all candidates an estimate."""
     try:
         import ipctk
     except ImportError:
@@ -527,8 +549,9 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
         return None
     ipctk.set_num_threads(1)
     ipctk.set_logger_level(ipctk.LoggerLevel.off)  # one warning per touching candidate otherwise
-    print(f"## ipctk {getattr(ipctk, '__version__', '')} side by side (one thread; medians of {repeats} runs, "
-          f"ipctk's stepsize once, its narrow phase once above {IPCTK_REPEAT_CANDIDATES} calls)")
+    print(f"## ipctk {getattr(ipctk, '__version__', '')} side by side (both on one thread: ipctk is pinned to one, "
+          f"so ours runs on one too, whatever --threads; medians of {repeats} runs, ipctk's stepsize once, its "
+          f"narrow phase once above {IPCTK_REPEAT_CANDIDATES} calls)")
     print()
     print("| step | triangles | ipctk broad ms | ipctk narrow ms | ipctk CCD ms | candidates | ipctk FN / FP | "
           "ours exact CCD ms | ours FN / FP | CCD speed-up | ipctk stepsize ms | has_intersections ms | ours DCD ms | "
@@ -561,7 +584,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
             seconds, vf_i, ee_i = ipctk_narrow_phase(cand, F, E, V0, V1, ti, sampled)
             narrow.append(seconds)
             found = (vf_i, ee_i)
-        col = conecull.SelfCollider(mesh, method="nc", threads=threads)
+        col = conecull.SelfCollider(mesh, method="nc", threads=1)  # as ipctk: one thread, a like-for-like speed-up
         col.dcd(V0)
         ours, ours_dcd, ours_first, has_t, free_t, ours_free = [], [], [], [], [], []
         for _ in range(repeats):
@@ -590,9 +613,14 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
             has_t.append(time.perf_counter() - t)
         vf, eeo = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
         if vf_t is None:
-            vf_t, ee_t = vf, eeo  # generated step: exact mode is the ground truth (checked against brute force in tests)
-        fn_o = len(vf_t - vf) + len(ee_t - eeo)
-        fp_o = len(vf - vf_t) + len(eeo - ee_t)
+            # generated step: our exact answer is the reference (checked against brute force in
+            # tests), so its own FN / FP would be 0 by construction: '= ref'
+            vf_t, ee_t = vf, eeo
+            fn_o = fp_o = None
+        else:
+            fn_o = len(vf_t - vf) + len(ee_t - eeo)
+            fp_o = len(vf - vf_t) + len(eeo - ee_t)
+        ours_fn_fp = "= ref" if fn_o is None else f"{fn_o} / {fp_o}"
         b, ss = 1e3 * statistics.median(broad), 1e3 * statistics.median(stepsize)
         o, od, h = 1e3 * statistics.median(ours), 1e3 * statistics.median(ours_dcd), 1e3 * statistics.median(has_t)
         of = 1e3 * statistics.median(ours_first)
@@ -610,7 +638,7 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
                        ipctk_fn=len(vf_t - found[0]) + len(ee_t - found[1]),
                        ipctk_fp=len(found[0] - vf_t) + len(found[1] - ee_t))
             narrow_cells = (f"{nr:.1f} | {b + nr:.1f} | {n} | {row['ipctk_fn']} / {row['ipctk_fp']} | "
-                            f"{o:.1f} | {fn_o} / {fp_o} | {row['ccd_speedup']:.1f}x")
+                            f"{o:.1f} | {ours_fn_fp} | {row['ccd_speedup']:.1f}x")
         elif found is not None:
             # A sample: its calls alone are a lower bound on the narrow phase; scaled to all
             # candidates (a uniform sample), an estimate. FN / FP need every candidate.
@@ -619,12 +647,12 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
                        ipctk_narrow_estimate_ms=est, ccd_speedup_lower=max((b + nr) / o, stepsize_bound),
                        ccd_speedup_estimate=(b + est) / o)
             narrow_cells = (f"{nr:.1f} on a sample of {k} (all: about {est:.0f}) | >= {b + nr:.1f} | {n} | - | "
-                            f"{o:.1f} | {fn_o} / {fp_o} | >= {row['ccd_speedup_lower']:.1f}x "
+                            f"{o:.1f} | {ours_fn_fp} | >= {row['ccd_speedup_lower']:.1f}x "
                             f"(about {row['ccd_speedup_estimate']:.0f}x)")
         else:
             row["ipctk_not_run"] = why
             row["ccd_speedup_lower"] = stepsize_bound
-            narrow_cells = (f"not run | - | {n} | - | {o:.1f} | {fn_o} / {fp_o} | "
+            narrow_cells = (f"not run | - | {n} | - | {o:.1f} | {ours_fn_fp} | "
                             f">= {row['ccd_speedup_lower']:.1f}x (stepsize)")
         row.update(ipctk_step_free_ms=1e3 * statistics.median(free_t), ours_first_hit_ccd_ms=1e3 * statistics.median(ours_free),
                    ipctk_step_free=bool(free), ours_step_free=len(sres.vf) + len(sres.ee) == 0,
@@ -644,7 +672,8 @@ def run_ipctk(steps, repeats, threads, results, *, max_candidates=IPCTK_MAX_CAND
           "is the larger of that and broad phase + ipctk's native compute_collision_free_stepsize (which stops "
           "refining a candidate past the earliest impact found so far, so does less than a narrow phase), the "
           "target is judged on the lower bound. 'not run': with a limit of 0, or memory for not even one candidate. FN / FP against the ground truth "
-          "(every candidate needed); ours: SelfCollider(method='nc').ccd, exact; has_intersections against our DCD "
+          "(every candidate needed); the generated step has none: there the reference is our exact CCD itself, so "
+          "ours says '= ref'; ours: SelfCollider(method='nc', threads=1).ccd, exact; has_intersections against our DCD "
           "at the end pose, listing every pair, and against dcd(stop_at_first=True), which answers the same "
           "one-bit question)")
     print()
@@ -672,6 +701,8 @@ def _plots(results, out):
         print("(PNG plots skipped: matplotlib is not installed: pip install 'conecull[bench]')")
         return []
     made = []
+    n_threads = results.get("threads")  # every timed section but ipctk's (always one thread, not plotted)
+    on = "" if n_threads is None else ", one thread" if n_threads == 1 else f", {n_threads} threads"
 
     def save(fig, name):
         path = os.path.join(out, name)
@@ -691,10 +722,10 @@ def _plots(results, out):
             ax.bar(x + i * w, [r[f"{kind}_ms"].get(m, np.nan) for r in bars], w, label=m)
         # step names are long: a line break at the first '-' or ' (' keeps neighbours apart
         names = [r["scene"].replace("-", "-\n", 1).replace(" (", "\n(", 1) for r in bars]
-        ax.set_xticks(x + 0.4 - w / 2, [f"{n}\n{r['triangles'] // 1000}K" for n, r in zip(names, bars)], fontsize=8)
+        ax.set_xticks(x + 0.4 - w / 2, [f"{n}\n{_size_label(r['triangles'])}" for n, r in zip(names, bars)], fontsize=8)
         ax.set_yscale("log")
         ax.set_ylabel("ms per query (log)")
-        ax.set_title(f"Fig. 10: {'DCD' if kind == 'dcd' else 'CCD (exact)'} query time per method, one thread")
+        ax.set_title(f"Fig. 10: {'DCD' if kind == 'dcd' else 'CCD (exact)'} query time per method{on}")
         ax.legend(fontsize=8, ncol=3)
         save(fig, f"fig10_{kind}.png")
     scenes = results.get("scenes") or []
@@ -704,10 +735,11 @@ def _plots(results, out):
             st = r["all_frames"]
             nc = [s["front_entries"] for s in st["nc+front"]]
             ab = [s["front_entries"] for s in st["aabb+front"]]
-            line, = axes[0].plot(nc, label=f"{r['scene']} nc+front")
-            axes[0].plot(ab, "--", color=line.get_color(), alpha=0.6)
+            x = _frame_numbers(r, len(nc))
+            line, = axes[0].plot(x, nc, label=f"{r['scene']} nc+front")
+            axes[0].plot(x, ab, "--", color=line.get_color(), alpha=0.6)
             ratio = [a / b if b else np.nan for a, b in zip(nc, ab)]
-            axes[1].plot(ratio, color=line.get_color(), label=r["scene"])
+            axes[1].plot(x, ratio, color=line.get_color(), label=r["scene"])
         axes[0].set_yscale("log")
         axes[0].set_title("Fig. 11: front entries (solid nc+front, dashed aabb+front)")
         axes[0].set_xlabel("frame")
@@ -720,11 +752,12 @@ def _plots(results, out):
         fig, axes = plt.subplots(1, len(scenes), figsize=(3.2 * len(scenes), 3.2), squeeze=False)
         for ax, r in zip(axes[0], scenes):
             st = r["all_frames"]
-            ax.plot([s["elementary_tests"] for s in st["aabb"]], label="aabb tests")
-            ax.plot([s["elementary_tests"] for s in st["nc"]], label="nc tests")
-            ax.plot([s["colliding_pairs"] for s in st["nc"]], label="collisions")
+            x = _frame_numbers(r, len(st["nc"]))
+            ax.plot(x, [s["elementary_tests"] for s in st["aabb"]], label="aabb tests")
+            ax.plot(x, [s["elementary_tests"] for s in st["nc"]], label="nc tests")
+            ax.plot(x, [s["colliding_pairs"] for s in st["nc"]], label="collisions")
             ax.set_yscale("symlog")
-            ax.set_title(f"{r['scene']} ({r['triangles'] // 1000}K)", fontsize=9)
+            ax.set_title(f"{r['scene']} ({_size_label(r['triangles'])})", fontsize=9)
             ax.set_xlabel("frame")
         axes[0][0].legend(fontsize=7)
         fig.suptitle("Fig. 1: elementary tests vs true collisions per DCD query")
@@ -739,23 +772,69 @@ def _plots(results, out):
         ax.set_xlabel("triangles")
         ax.set_ylabel("ns per triangle per query")
         ax.set_ylim(bottom=0)
-        ax.set_title("Scaling: folded sheet, one thread")
+        ax.set_title(f"Scaling: folded sheet{on}")
         ax.legend()
         save(fig, "scaling.png")
     return made
+
+
+# The sections of `bench all` that read each option (the others read --repeats, --threads, --out).
+SECTIONS_OF = {"scenes": ("scenes",), "resolution": ("scenes",), "frames": ("scenes", "contour"),
+               "sizes": ("scaling",), "ipctk_candidates": ("ipctk",),
+               "triangles": ("steps", "ipctk", "contour", "ccd", "threads")}
+
+
+def _typed_options(argv) -> set:
+    """The bench options on a command line, as argparse reads them (`--tri=5` is --triangles): the
+    CLI fills in --triangles' and --frames' defaults before run_all sees them, so what was typed
+    is read from the words themselves."""
+    from conecull.app.cli import BENCH_OPTIONS
+
+    dests = set().union(*BENCH_OPTIONS.values()) | {"leaf_size", "from_json"}
+    options = {"--" + d.replace("_", "-"): d for d in dests}
+    typed = set()
+    for word in argv:
+        if word == "--":
+            break
+        head = word.split("=", 1)[0]
+        if not head.startswith("--"):
+            continue
+        hits = [d for o, d in options.items() if o == head] or [d for o, d in options.items() if o.startswith(head)]
+        if len(hits) == 1:  # argparse refuses an ambiguous prefix
+            typed.add(hits[0])
+    return typed
+
+
+def check_sections(args, skip: set) -> None:
+    """An option only skipped sections read is refused: it would be ignored, silently."""
+    typed = _typed_options(getattr(args, "argv", ()))
+    typed |= {d for d in ("scenes", "resolution", "sizes", "ipctk_candidates") if getattr(args, d, None) is not None}
+    for dest, sections in SECTIONS_OF.items():
+        if dest in typed and set(sections) <= skip:
+            option = "--" + dest.replace("_", "-")
+            what = (f"the {sections[0]} section is skipped" if len(sections) == 1 else
+                    f"the sections that use it ({', '.join(sections)}) are all skipped")
+            raise ValueError(f"{option}: {what} (--skip {','.join(sections)})")
+
+
+def _frame_numbers(row, n):
+    """The scene's own frame numbers of its last n frames (the counting window), for an x axis."""
+    return np.arange(row["frames"] - n, row["frames"])
 
 
 def run_all(args) -> int:
     """The whole evaluation; sections can be left out (see the CLI's options)."""
     from conecull.app import bench
 
+    # Every option checked before any work (the CLI checked each alone; here they meet --skip).
+    skip = bench.check_skip("all", args.skip)
+    check_sections(args, skip)
+    scenes = _scenes_of(args)
+    sizes = SIZES if args.sizes is None else parse_sizes(args.sizes)
     out = args.out
     os.makedirs(out, exist_ok=True)
     threads = args.threads or 1
     args.repeats = args.repeats or 3
-    scenes = _scenes_of(args)
-    sizes = SIZES if args.sizes is None else parse_sizes(args.sizes)
-    skip = bench.check_skip("all", args.skip)
     results = {"machine": {"cpu": platform.processor() or platform.machine(), "cores": os.cpu_count(),
                            "python": platform.python_version()}, "threads": threads, "repeats": args.repeats}
     tee = _Tee(sys.stdout)
@@ -768,17 +847,17 @@ def run_all(args) -> int:
         print()
         steps, thread_runs = [], []
         if "threads" not in skip:
-            _threads_run(args, out, thread_runs)  # 1 of THREAD_RUNS: at the start
+            _threads_run(args, out, thread_runs, "at its start")  # 1 of THREAD_RUNS
         if "scenes" not in skip and scenes:
             run_scenes(scenes, args.frames, args.repeats, threads, results, resolution=args.resolution)
         if "steps" not in skip:
             steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
         if "ipctk" not in skip:
             cap = IPCTK_MAX_CANDIDATES if args.ipctk_candidates is None else args.ipctk_candidates
-            run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, threads, results,
+            run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, results,
                       max_candidates=cap)
-        if "threads" not in skip:
-            _threads_run(args, out, thread_runs)  # 2 of THREAD_RUNS: in the middle
+        if "threads" not in skip:  # 2 of THREAD_RUNS: in the middle, after whatever ran so far
+            _threads_run(args, out, thread_runs, _after([x for x in ("scenes", "steps", "ipctk") if x not in skip]))
         if "contour" not in skip:
             print("## Contour tests (Fig. 9)")
             print()
@@ -794,8 +873,9 @@ def run_all(args) -> int:
         if "scaling" not in skip and sizes:
             run_scaling(sizes, 4, args.repeats, threads, results)
         if "threads" not in skip:
-            while len(thread_runs) < THREAD_RUNS:
-                _threads_run(args, out, thread_runs)  # the last: at the end
+            while len(thread_runs) < THREAD_RUNS:  # the last: at the end
+                _threads_run(args, out, thread_runs, "at its end" + _after(
+                    [x for x in ("contour", "ccd", "scaling") if x not in skip], ", "))
             results["threads_bench"] = median_threads(thread_runs)
             print_threads(results["threads_bench"])
         results["targets"] = judge(results)
@@ -812,16 +892,25 @@ def run_all(args) -> int:
     return 0
 
 
-def _threads_run(args, out, runs):
+def _after(sections, lead=""):
+    """When a threads run ran, by the sections before it: 'after the scenes and steps'."""
+    if not sections:
+        return "" if lead else "straight after the first (every section between was skipped)"
+    names = sections[0] if len(sections) == 1 else ", ".join(sections[:-1]) + " and " + sections[-1]
+    return f"{lead}after the {names}"
+
+
+def _threads_run(args, out, runs, when):
     """One run of the threads section (`bench threads`, 2 threads against 1), its JSON appended to
-    `runs`; its own table is not printed (print_threads prints the runs side by side)."""
+    `runs` with `when` it ran; its own table is not printed (print_threads prints the runs side by
+    side)."""
     from conecull.app import bench
 
     folder = os.path.join(out, "threads_runs", str(len(runs) + 1))
     print(f"- threads, run {len(runs) + 1} of {THREAD_RUNS}", file=sys.stderr, flush=True)
     with contextlib.redirect_stdout(io.StringIO()):
         bench.run_threads_bench(args.triangles, 4, args.repeats, folder, threads=2)
-    runs.append(_section_json(folder, "threads.json"))
+    runs.append({**_section_json(folder, "threads.json"), "when": when})
 
 
 def median_threads(runs):
@@ -845,10 +934,11 @@ def print_threads(threads):
     runs = threads["runs"]
     print("## Threads")
     print()
+    when = [r.get("when") for r in runs]
+    spread = f" ({'; '.join(when)})" if all(when) else ""  # runs of an older paper.json do not say
     print(f"2 threads against 1 (`bench threads`: DCD on the {threads['triangles']}-triangle folding sheet per "
           f"method, CCD on the jittered fold step per arithmetic mode), {len(runs)} runs spread over this "
-          f"evaluation (at its start, after the steps and ipctk, at its end), the median per query; query ms "
-          f"are medians over the runs too.")
+          f"evaluation{spread}, the median per query; query ms are medians over the runs too.")
     print()
     print("| query | speed-up per run | median speed-up | 1 thread ms | 2 threads ms |")
     print("|---|---|---|---|---|")

@@ -103,6 +103,7 @@ def plotted_reason(name: str, method: str) -> bool:
         return name == "edges_may_overlap"
     return BASELINE_REASONS.get(name, method) == method
 
+
 # Every plotted series' name in words (the plot legends show these, not the entity paths).
 SERIES_NAMES = {
     "/stats/tests/box": "box tests (BVTT node pairs)", "/stats/tests/cone": "cone tests",
@@ -132,7 +133,7 @@ def status_legend_markdown(depth: int) -> str:
             for i in range(len(L.STATUS_NAMES))]
     return "\n".join([
         "### Face colours", "Each face shows the verdict of the deepest BVH node that judged it. The traversal "
-        "descends below a failing node until its children are culled, so most faces end up green; where culling "
+        "descends below a failing node until a node is culled, so most faces end up green; where culling "
         "worked only deep in the BVH the green is pale.", *rows, "",
         "### Other layers",
         "- **scene/culled**: the boundary contour of each culled node (dark green): the culled patches.",
@@ -177,11 +178,11 @@ class RerunRecorder:
         self.previous = None  # the frame of the previous query (front methods: whence the front came)
         self._named = set()
 
-    def _scalar(self, path: str, value):
-        """One point of a plotted series, its name in words (SERIES_NAMES) set once."""
+    def _scalar(self, path: str, value, name: str | None = None):
+        """One point of a plotted series, its name in words (name, else SERIES_NAMES) set once."""
         if path not in self._named:
             self._named.add(path)
-            name = SERIES_NAMES.get(path, path.rsplit("/", 1)[-1].replace("_", " "))
+            name = name or SERIES_NAMES.get(path, path.rsplit("/", 1)[-1].replace("_", " "))
             self.rec.log(path, rr.SeriesLines(names=name), static=True)
         self.rec.log(path, rr.Scalars(value))
 
@@ -305,10 +306,10 @@ class RerunRecorder:
         """One compared method's counters and times at `frame` (an untraced query)."""
         self.rec.set_time("frame", sequence=frame)
         base = compare_path(method)
-        self.rec.log(f"{base}/contour_ms", rr.Scalars(1e3 * stats["seconds_contour"]))
-        self.rec.log(f"{base}/contour_tests", rr.Scalars(stats["contour_tests"]))
-        self.rec.log(f"{base}/elementary_tests", rr.Scalars(stats["elementary_tests"]))
-        self.rec.log(f"{base}/query_ms", rr.Scalars(query_ms))
+        self._scalar(f"{base}/contour_ms", 1e3 * stats["seconds_contour"], f"{method}: contour-test ms")
+        self._scalar(f"{base}/contour_tests", stats["contour_tests"], f"{method}: contour tests")
+        self._scalar(f"{base}/elementary_tests", stats["elementary_tests"], f"{method}: elementary tests")
+        self._scalar(f"{base}/query_ms", query_ms, f"{method}: query ms")
 
     def close(self):
         try:

@@ -2,6 +2,7 @@
 JSON and plots, and its counters are those of the core (the timings are not tested)."""
 
 import json
+import os
 
 import numpy as np
 import pytest
@@ -113,7 +114,7 @@ def test_the_harness_refuses_to_time_methods_that_disagree(ccd):
             for a, b in zip(frames, frames[1:]))
     assert n > 0  # there is a pair to drop
     cols["nc"] = DropsOnePair(cols["nc"])
-    with pytest.raises(AssertionError, match="nc disagrees with aabb at"):
+    with pytest.raises(RuntimeError, match="bench all: nc disagrees with aabb at .*please report this as a bug"):
         _timed_pass(cols, frames, ms, stats, ccd=ccd)
 
 
@@ -131,15 +132,18 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     steps = run_steps(1, 1, results, steps=[(name, F, V0, V1, None, None)])
     row = results["steps"][0]
     assert row["contacts"] > 0 and set(row["ccd_ms"]) == set(conecull.CCD_METHODS)
-    rows = run_ipctk(steps, 1, 1, results)
+    rows = run_ipctk(steps, 1, results)
     r = rows[0]
-    assert r["ours_fn"] == 0 and r["ours_fp"] == 0 and r["ipctk_fn"] == 0
+    # the generated step has no ground truth: ours is the reference, its FN / FP are not counted
+    assert r["ours_fn"] is None and r["ours_fp"] is None and r["ipctk_fn"] == 0
+    out = capsys.readouterr().out
+    assert "both on one thread" in out and "| = ref |" in out
     assert r["candidates"] > 0 and r["ipctk_intersecting"] == r["ours_intersecting"]
     assert r["ours_first_hit_ms"] > 0 and r["first_hit_speedup"] == r["has_intersections_ms"] / r["ours_first_hit_ms"]
     # is_step_collision_free against ccd(stop_at_first): the step has contacts, both say so
     assert r["ipctk_step_free"] is False and r["ours_step_free"] is False and r["ours_step_free_full"] is False
     assert r["step_free_speedup"] == r["ipctk_step_free_ms"] / r["ours_first_hit_ccd_ms"]
-    rows = run_ipctk(steps, 1, 1, {}, max_candidates=0)  # a limit of 0: narrow phase not run, stated
+    rows = run_ipctk(steps, 1, {}, max_candidates=0)  # a limit of 0: narrow phase not run, stated
     assert "ipctk_narrow_ms" not in rows[0] and "not run" in capsys.readouterr().out
     assert rows[0]["ipctk_not_run"] == "more than 0 candidates"
     assert rows[0]["ccd_speedup_lower"] == (rows[0]["ipctk_broad_ms"] + rows[0]["ipctk_stepsize_ms"]) / rows[0]["ours_ms"]
@@ -218,9 +222,9 @@ def test_ipctk_beyond_the_limit_runs_on_a_sample_and_bounds_the_speedup(capsys):
 
     import_or_skip("ipctk", "an optional extra (pip install 'conecull[bench]'; also in [test])")
     name, F, V0, V1 = _fold_step()
-    full = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})[0]
+    full = run_ipctk([(name, F, V0, V1, None, None)], 1, {})[0]
     cap = full["candidates"] // 3
-    r = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {}, max_candidates=cap)[0]
+    r = run_ipctk([(name, F, V0, V1, None, None)], 1, {}, max_candidates=cap)[0]
     assert "ccd_speedup" not in r and "ipctk_fn" not in r and r["candidates"] == full["candidates"]
     assert r["ipctk_sampled"] == cap and r["ipctk_sample_why"] == f"more than {cap} candidates"
     assert r["ipctk_narrow_estimate_ms"] == r["ipctk_narrow_sample_ms"] * r["candidates"] / cap
@@ -240,7 +244,7 @@ def test_ipctk_narrow_phase_is_sampled_beyond_the_machines_memory(monkeypatch, c
 
     name, F, V0, V1 = _fold_step()
     monkeypatch.setattr(evaluation, "memory_bytes", lambda: 2**20)  # 1 MiB
-    r = run_ipctk([(name, F, V0, V1, None, None)], 1, 1, {})[0]
+    r = run_ipctk([(name, F, V0, V1, None, None)], 1, {})[0]
     fits = 2**20 // evaluation.IPCTK_BYTES_PER_CANDIDATE
     assert "ipctk_narrow_ms" not in r and r["candidates"] > fits and r["ipctk_sampled"] == fits
     assert r["ipctk_sample_why"].startswith("all ") and "more than this machine's 0.000977" in r["ipctk_sample_why"]
@@ -312,9 +316,127 @@ def test_bench_all_runs_the_threads_section_three_times(tmp_path):
     assert rc == 0 and THREAD_RUNS == 3
     runs = [json.loads((out / "threads_runs" / str(k) / "threads.json").read_text()) for k in (1, 2, 3)]
     res = json.loads((out / "paper.json").read_text())
+    # each run says when it ran: here every other section was skipped
+    assert [r.pop("when") for r in res["threads_bench"]["runs"]] == [
+        "at its start", "straight after the first (every section between was skipped)", "at its end"]
     assert res["threads_bench"]["runs"] == runs
     for row in res["threads_bench"]["rows"]:
         per_run = [next(r for r in run["rows"] if (r["kind"], r["query"], r["threads"]) ==
                         (row["kind"], row["query"], row["threads"]))["speedup"] for run in runs]
         assert row["speedups"] == per_run and row["speedup"] == sorted(per_run)[1]
-    assert "## Threads" in (out / "report.md").read_text()
+    report = (out / "report.md").read_text()
+    assert "## Threads" in report and "evaluation (at its start; straight after the first" in report
+    assert "after the steps and ipctk" not in report  # they did not run
+
+
+@pytest.mark.parametrize("argv, msg", [
+    (["--scenes", ","], "--scenes: expected comma-separated scene names, got ','"),
+    (["--scenes", ""], "--scenes: expected comma-separated scene names, got ''"),
+    (["--scenes", "fold,crumple,fold"], "--scenes: 'fold' named more than once"),
+    (["--skip", ""], "--skip: expected comma-separated sections to leave out"),
+    (["--skip", ","], "--skip: expected comma-separated sections to leave out"),
+    (["--scenes", "fold", "--resolution", "-5"], "--resolution: expected an integer >= 3, got -5"),
+    (["--resolution", "2"], "--resolution: expected an integer >= 3, got 2"),  # the default scenes
+    (["--sizes", "1000", "--skip", "scaling"], "--sizes: the scaling section is skipped (--skip scaling)"),
+    (["--ipctk-candidates", "5", "--skip", "ipctk"], "--ipctk-candidates: the ipctk section is skipped (--skip ipctk)"),
+    (["--scenes", "fold", "--skip", "scenes"], "--scenes: the scenes section is skipped (--skip scenes)"),
+    (["--resolution", "8", "--skip", "scenes"], "--resolution: the scenes section is skipped (--skip scenes)"),
+    (["--triangles", "2000", "--skip", "steps,ipctk,contour,ccd,threads"],
+     "--triangles: the sections that use it (steps, ipctk, contour, ccd, threads) are all skipped"),
+    (["--tri=2000", "--skip", "steps,ipctk,contour,ccd,threads"], "--triangles: the sections that use it"),
+    (["--frames", "3", "--skip", "scenes,contour"], "--frames: the sections that use it (scenes, contour) are all skipped"),
+])
+def test_bench_all_refuses_options_it_would_ignore(tmp_path, monkeypatch, argv, msg, capsys):
+    """Refused before any section runs (each used to be read as "nothing", ignored, or to fail
+    minutes in); the sections are stubbed, so any work done would show."""
+    from conecull.app import evaluation
+
+    monkeypatch.setattr(evaluation, "_threads_run", lambda *a, **k: pytest.fail("a section ran"))
+    monkeypatch.setattr(evaluation, "run_scenes", lambda *a, **k: pytest.fail("a section ran"))
+    assert main(["bench", "all", *argv, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert msg in err and "Traceback" not in err, err
+    assert not (tmp_path / "o" / "report.md").exists()
+
+
+def test_bench_all_options_still_allowed_with_their_section(tmp_path, monkeypatch):
+    """The same options pass when a section that reads them runs (--triangles: any one of them)."""
+    from conecull.app import evaluation
+
+    ran = []
+    monkeypatch.setattr(evaluation, "run_ipctk", lambda *a, max_candidates, **k: ran.append(max_candidates))
+    monkeypatch.setattr(evaluation, "shared_steps", lambda: [])
+    assert main(["bench", "all", "--skip", "scenes,steps,contour,ccd,scaling,threads", "--triangles", "200",
+                 "--ipctk-candidates", "3", "--out", str(tmp_path / "a")]) == 0
+    assert ran == [3]
+
+
+def test_size_labels():
+    from conecull.app.bench import _generated_ccd_steps, _size_label
+
+    assert [_size_label(n) for n in (50, 512, 1500, 9999, 64000, 1000000)] == \
+        ["50", "0.5K", "1.5K", "10.0K", "64K", "1000K"]
+    assert _generated_ccd_steps(512)[1][0] == "generated fold (0.5K, jittered)"  # was "(0K, jittered)"
+
+
+def test_plots_say_the_thread_count_and_the_real_frames(tmp_path, monkeypatch):
+    """Titles name the run's thread count (they said "one thread" under --threads 2); a scene under
+    1000 triangles is not "0K"; Fig. 11 and Fig. 1 plot against the scene's own frame numbers."""
+    matplotlib = pytest.importorskip("matplotlib")
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    from conecull.app.evaluation import _plots
+
+    seen = []
+
+    def savefig(fig, path, **kw):
+        axes = fig.get_axes()
+        seen.append((os.path.basename(path), [a.get_title() for a in axes],
+                     [[t.get_text() for t in a.get_xticklabels()] for a in axes],
+                     [[list(line.get_xdata()) for line in a.get_lines()] for a in axes]))
+
+    monkeypatch.setattr(Figure, "savefig", savefig)
+    st = [{"front_entries": 3, "elementary_tests": 5, "colliding_pairs": 1}] * 3
+    scene = {"scene": "tiny", "triangles": 512, "frames": 10, "dcd_ms": {"nc": 1.0}, "ccd_ms": {"nc": 2.0},
+             "all_frames": {"nc+front": st, "aabb+front": st, "aabb": st, "nc": st}}
+    scaling = [{"triangles": 1000, "dcd_nc_ms": 1.0, "dcd_nc_front_ms": 1.0, "ccd_nc_ms": 1.0}]
+    _plots({"threads": 2, "scenes": [scene], "scaling": scaling}, str(tmp_path))
+    plots = {name: (titles, ticks, xs) for name, titles, ticks, xs in seen}
+    assert plots["fig10_dcd.png"][0] == ["Fig. 10: DCD query time per method, 2 threads"]
+    assert plots["fig10_dcd.png"][1][0] == ["tiny\n0.5K"]
+    assert plots["scaling.png"][0] == ["Scaling: folded sheet, 2 threads"]
+    assert plots["fig1_efficiency.png"][0] == ["tiny (0.5K)"]
+    assert plots["fig11_front.png"][2][0][0] == [7, 8, 9]  # the last 3 of 10 frames, not 0, 1, 2
+    assert plots["fig1_efficiency.png"][2][0][0] == [7, 8, 9]
+    seen.clear()
+    _plots({"threads": 1, "scenes": [scene]}, str(tmp_path))
+    assert seen[0][1] == ["Fig. 10: DCD query time per method, one thread"]
+
+
+@pytest.mark.parametrize("skip, when", [
+    ("scenes,steps,contour,ccd,scaling", ["at its start", "after the ipctk", "at its end"]),
+    ("scenes,ipctk,contour,scaling", ["at its start", "after the steps", "at its end, after the ccd"]),
+])
+def test_threads_runs_say_when_they_ran(tmp_path, monkeypatch, skip, when):
+    """print_threads said "at its start, after the steps and ipctk, at its end" whatever ran."""
+    from conecull.app import bench, evaluation
+
+    monkeypatch.setattr(evaluation, "run_ipctk", lambda *a, **k: None)
+    monkeypatch.setattr(evaluation, "run_steps", lambda *a, **k: [])
+    monkeypatch.setattr(bench, "run_ccd_bench", lambda *a, **k: _write(a[3], "ccd.json", {"rows": []}))
+    monkeypatch.setattr(bench, "run_threads_bench",
+                        lambda n, f, r, folder, threads: _write(folder, "threads.json",
+                                                                _threads_run_json({("dcd", "nc"): 1.8})))
+    out = tmp_path / "w"
+    assert main(["bench", "all", "--skip", skip, "--triangles", "200", "--repeats", "1", "--out", str(out)]) == 0
+    res = json.loads((out / "paper.json").read_text())
+    assert [r["when"] for r in res["threads_bench"]["runs"]] == when
+    assert "; ".join(when) in (out / "report.md").read_text()
+
+
+def _write(folder, name, data):
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, name), "w") as fh:
+        json.dump(data, fh)
+    return 0

@@ -81,6 +81,14 @@ def test_bench_first_hit(tmp_path):
     assert rows[0]["ccd_first_hit_pairs"] < rows[0]["ccd_pairs"] / 4  # nc stops making pairs early
 
 
+def test_bench_first_hit_says_when_the_real_steps_are_missing(tmp_path, monkeypatch, capsys):
+    """Without the shared data the real steps are left out saying why (they were dropped silently)."""
+    monkeypatch.setenv("CONECULL_SHARED", str(tmp_path / "nowhere"))
+    assert main(["bench", "first-hit", "--triangles", "2000", "--repeats", "1", "--out", str(tmp_path / "o")]) == 0
+    text = capsys.readouterr().out
+    assert "no data folder" in text and "only the generated step is measured" in text
+
+
 def test_bench_first_hit_bad_skip(capsys):
     assert main(["bench", "first-hit", "--skip", "scenes"]) == 2
     assert "--skip: first-hit can leave out 'steps', got ['scenes']" in capsys.readouterr().err
@@ -133,3 +141,102 @@ def test_bench_front_leaf_size(tmp_path):
     col.dcd(W[0])  # the BVH from the window's first frame, as the bench builds it
     assert counts[1] == [col.dcd(V).stats["front_entries"] for V in W]
     assert counts[1] != counts[2]
+
+
+def _tamper(monkeypatch, kind, when):
+    """Wrap SelfCollider.dcd or .ccd so that, for the colliders `when(collider)` picks, an answer
+    keeps its count but loses its order (two rows swapped): a count or a counter compares equal,
+    only the arrays tell."""
+    import conecull
+
+    real = getattr(conecull.SelfCollider, kind)
+
+    def swapped(rows):
+        rows = rows.copy()
+        if len(rows) >= 2:
+            rows[[0, -1]] = rows[[-1, 0]]
+        return rows
+
+    def query(self, *a, **k):
+        res = real(self, *a, **k)
+        if when(self):  # the timed frames and steps have many contacts (the tests check an error is raised)
+            if kind == "dcd":
+                res.pairs = swapped(res.pairs)
+            else:
+                res.vf, res.ee = swapped(res.vf), swapped(res.ee)
+        return res
+
+    monkeypatch.setattr(conecull.SelfCollider, kind, query)
+
+
+@pytest.mark.parametrize("section, kind, when, msg", [
+    ("dcd", "dcd", lambda c: c.method == "cbc" and c.leaf_size == 4,
+     r"bench dcd: cbc \(leaf 4, 1 thread\(s\)\) in run 1 disagrees with aabb \(leaf 1, 1 thread\(s\)\) in run 1 on "
+     r"the colliding pairs of frame 1; please report this as a bug"),
+    ("contour", "dcd", lambda c: c.method == "sct",
+     r"bench contour: sct in run 1 disagrees with nc in run 1 on the DCD answer at frame 1; please report this as a bug"),
+    ("contour", "ccd", lambda c: c.method == "cbc",
+     r"bench contour: cbc in run 1 disagrees with nc in run 1 on the CCD answer at step 0 -> 1"),
+    ("threads", "dcd", lambda c: c.threads == 2 and c.method == "nc+front",
+     r"bench threads: nc\+front \(leaf 2, 2 thread\(s\)\) in run 1 disagrees with aabb \(leaf 2, 1 thread\(s\)\) in "
+     r"run 1 on the colliding pairs of frame 1"),
+    ("threads", "ccd", lambda c: c.threads == 2,
+     r"bench threads: ccd float on 2 threads \(run 1\) disagrees with 1 thread \(run 1\) on the VF / EE contacts"),
+])
+def test_sections_compare_every_answer_pair_for_pair(tmp_path, monkeypatch, section, kind, when, msg):
+    """A method (or thread count) whose answer has the right count but other rows stops the suite
+    with an error naming it, the frame or step and the suite; an `assert` (stripped by python -O)
+    on counts or counters let it through."""
+    _tamper(monkeypatch, kind, when)
+    with pytest.raises(RuntimeError, match=msg):
+        main(["bench", section, "--triangles", "2000", "--frames", "2", "--repeats", "1", "--out",
+              str(tmp_path / section)])
+
+
+def test_sections_compare_every_run_not_only_the_first(tmp_path, monkeypatch):
+    """The second run of a query answering otherwise than the first is caught too."""
+    calls = {}
+
+    def second_run(col):  # each collider's calls: its build (frame 0), then one per run
+        calls[id(col)] = calls.get(id(col), 0) + 1
+        return col.method == "nc" and calls[id(col)] == 3
+
+    _tamper(monkeypatch, "dcd", second_run)
+    with pytest.raises(RuntimeError, match=r"bench contour: nc in run 2 disagrees with nc in run 1 on the DCD answer at frame 1"):
+        main(["bench", "contour", "--triangles", "2000", "--frames", "2", "--repeats", "2", "--out",
+              str(tmp_path / "c")])
+
+
+def test_bench_ccd_generated_steps_and_the_median(tmp_path, monkeypatch, capsys):
+    """On the generated steps exact CCD is the reference, so its FN / FP are '= ref' (not a
+    measured 0); 'us per test' is the median of the runs, as the header says (it was the last)."""
+    import statistics
+
+    import conecull
+    from conecull.datasets import shared
+
+    monkeypatch.setattr(shared, "shared_data_dir", lambda: None)  # the generated steps alone
+    real = conecull.SelfCollider.ccd
+    n = [0]
+
+    def ccd(self, *a, **k):  # seconds in the elementary tests: 1, 4, 9, ... ms, call after call
+        res = real(self, *a, **k)
+        n[0] += 1
+        res.stats["seconds_elementary"] = 1e-3 * n[0] ** 2
+        return res
+
+    monkeypatch.setattr(conecull.SelfCollider, "ccd", ccd)
+    out = tmp_path / "ccd"
+    assert main(["bench", "ccd", "--triangles", "2000", "--repeats", "3", "--out", str(out)]) == 0
+    rows = json.loads((out / "ccd.json").read_text())["rows"]
+    text = capsys.readouterr().out
+    assert [r["step"] for r in rows] == ["generated fold (2.0K, exact grid)"] * 3 + ["generated fold (2.0K, jittered)"] * 3
+    for r in rows:
+        assert (r["fn"] is None and r["fp"] is None) == (r["mode"] == "exact"), r
+        assert r["mode"] == "exact" or (r["fn"] >= 0 and r["fp"] >= 0)
+        assert f"| {r['step']} | exact | " in text
+    assert text.count("| = ref | = ref |") == 2 and "the reference is exact CCD itself" in text
+    # per step 3 runs x 3 modes, the modes taking turns: float is call 1, 4, 7 of the first step
+    first = rows[0]
+    assert first["mode"] == "float"
+    assert first["us_per_test"] == pytest.approx(statistics.median(1e3 * c ** 2 for c in (1, 4, 7)) / first["elementary_tests"])

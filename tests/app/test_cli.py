@@ -430,3 +430,10 @@ def test_explain_tells_a_front_methods_story_as_the_recording_does(tmp_path, cap
         logged = [t for _, t in _log_rows(path)[k]]
         said = text[1] if not ccd else text[2]  # CCD: the face's first contact, after "triangle 62 takes part in ..."
         assert said in logged, (said, logged[:3])
+
+
+def test_bench_all_refuses_an_option_it_would_ignore_before_making_out(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["bench", "all", "--skip", "scaling", "--sizes", "16000", "--out", str(out)]) == 2
+    assert "--sizes: the scaling section is skipped (--skip scaling)" in capsys.readouterr().err
+    assert not out.exists()

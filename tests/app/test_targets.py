@@ -27,9 +27,11 @@ def test_front_faster_needs_every_scene_strictly_faster():
     assert "DCD" in dcd["target"] and dcd["verdict"] == "met"
     assert dcd["values"]["vs_nc"] == {"a": 1.25, "b": 5 / 4.9}
     # a tie (1.00x) on one scene is not "faster"; the failing scene is named
-    assert "CCD" in ccd["target"] and ccd["verdict"] == "not met" and "(not: b 1.00x)" in ccd["measured"]
+    assert "CCD" in ccd["target"] and ccd["verdict"] == "not met" and "(not: b 1.000x)" in ccd["measured"]
+    assert dcd["measured"].startswith("on 2 scenes: a, b; vs nc ")  # what "every scene" covered
     slower_than_aabb = judge({"scenes": [_scene("a", (4, 5, 4.5), (10, 5, 4))]})[0]
-    assert slower_than_aabb["verdict"] == "not met" and "vs aabb 0.89x (not: a 0.89x)" in slower_than_aabb["measured"]
+    assert slower_than_aabb["verdict"] == "not met" and "vs aabb 0.889x (not: a 0.889x)" in slower_than_aabb["measured"]
+    assert slower_than_aabb["measured"].startswith("on 1 scene: a;")
 
 
 @pytest.mark.parametrize("ratio, verdict", [(0.40, "met"), (0.4001, "not met"), (0.05, "met")])
@@ -43,6 +45,17 @@ def test_front_share_threshold_is_inclusive(ratio, verdict):
 def test_front_share_ignores_scenes_without_a_front():
     rows = judge({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=float("nan"), ccd_front=float("nan"))]})
     assert rows[2]["verdict"] == rows[3]["verdict"] == "not measured"
+    assert "not measured on a (aabb+front kept no front)" in rows[2]["measured"]
+
+
+def test_front_share_names_a_scene_it_could_not_judge():
+    """A scene without a front (NaN ratio) is said to be unmeasured, not silently dropped."""
+    rows = judge({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=0.2), _scene("b", (3, 2, 1), (3, 2, 1),
+                                                                                   front=float("nan"))]})
+    assert rows[2]["verdict"] == "met" and rows[2]["measured"] == \
+        "1 of 1 scenes: a 20%; not measured on b (aabb+front kept no front)"
+    assert rows[2]["values"]["not_measured"] == ["b"]
+    assert rows[3]["measured"] == "2 of 2 scenes: a 30%, b 30%"
 
 
 def _contour(sct, cbc_dcd, cbc_ccd):
@@ -75,7 +88,8 @@ def test_ipctk_ccd_full_figures_and_lower_bounds():
     assert v([_ipctk("a", ccd=19.9), _ipctk("b", ccd=300.0)])["verdict"] == "not met"
     # only a lower bound below the threshold: neither met nor refuted
     row = v([_ipctk("a", ccd=300.0), _ipctk("n-body", bound=2.2)])
-    assert row["verdict"] == "not shown" and "n-body >= 2.2x (a lower bound" in row["measured"]
+    assert row["verdict"] == "not shown" and "n-body >= 2.200x (a lower bound" in row["measured"]
+    assert row["measured"].startswith("300x on 1 step: a;")
     assert v([_ipctk("a", ccd=300.0), _ipctk("n-body", bound=25.0)])["verdict"] == "met"
     assert v([_ipctk("a", ccd=3.0), _ipctk("n-body", bound=2.2)])["verdict"] == "not met"
 
@@ -119,9 +133,20 @@ def _scaling(*pairs):
     (((64000, 1.0), (1000000, 0.69)), "not met"),
     (((16000, 1.0), (32000, 1.0)), "not measured"),  # no 64K
     (((64000, 1.0),), "not measured"),
+    (((64000, 1.0), (900000, 1.2)), "met"),  # near enough to 1M
+    (((16000, 1.0), (64000, 1.0), (256000, 0.95)), "partial"),  # within 30%, but only up to 256K
+    (((64000, 1.0), (256000, 1.5)), "not met"),  # out of range already at 256K
 ])
 def test_scaling_within_thirty_percent_of_64k(rows, verdict):
     assert judge({"scaling": _scaling(*rows)})[7]["verdict"] == verdict
+
+
+def test_scaling_says_which_sizes_it_judged():
+    row = judge({"scaling": _scaling((16000, 1.0), (64000, 1.0), (256000, 0.95))})[7]
+    assert row["measured"] == "relative to 64K: 64K 1.00x, 256K 0.95x; measured up to 256K only, none near 1M"
+    row = judge({"scaling": _scaling((1000, 1.0), (2000, 1.1))})[7]
+    assert row["verdict"] == "not measured"
+    assert row["measured"] == "sizes measured: 1.0K, 2.0K; the target needs 64K and a larger one"
 
 
 def test_threads_every_query_at_least_1_7x():
@@ -130,7 +155,7 @@ def test_threads_every_query_at_least_1_7x():
                                {"query": "ccd exact", "threads": 2, "speedup": 1.9}]}
     assert judge({"threads_bench": rows(1.7)})[8]["verdict"] == "met"
     row = judge({"threads_bench": rows(1.69)})[8]
-    assert row["verdict"] == "not met" and "(not: nc 1.69x)" in row["measured"]
+    assert row["verdict"] == "not met" and "(not: nc 1.690x)" in row["measured"]
 
 
 def test_accuracy_counts_the_real_steps_only():
@@ -142,3 +167,22 @@ def test_accuracy_counts_the_real_steps_only():
                          {"step": "ccd-queries", "mode": "float", "ms": 1.0, "queries": 3}]}
     assert judge({"ccd": rows(130.0)})[9]["verdict"] == "met"
     assert judge({"ccd": rows(131.0)})[9]["verdict"] == "not met"
+
+
+@pytest.mark.parametrize("results, text", [
+    ({"threads_bench": {"rows": [{"query": "nc", "threads": 2, "speedup": 1.699}]}}, "1.699x over 1 queries (not: nc 1.699x)"),
+    ({"threads_bench": {"rows": [{"query": "nc", "threads": 2, "speedup": 1.6999}]}}, "(not: nc 1.6999x)"),
+    ({"threads_bench": {"rows": [{"query": "nc", "threads": 2, "speedup": 1.705}]}}, "1.705x over 1 queries"),  # near: met
+    ({"contour": _contour(2.999, 50, 50)}, "DCD sct 2.999x, DCD cbc 50.00x"),
+    ({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=0.4001)]}, "0 of 1 scenes: a 40.01%"),
+    ({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=0.404)]}, "0 of 1 scenes: a 40.4%"),
+    ({"scaling": [{"triangles": 64000, "dcd_per_triangle_vs_64k": 1.0},
+                  {"triangles": 1000000, "dcd_per_triangle_vs_64k": 1.3004}]}, "1000K 1.3004x"),
+    ({"ccd": {"rows": [{"step": "s", "mode": "float", "ms": 1.0}, {"step": "s", "mode": "exact", "ms": 1.3049}]}},
+     "1.305x on 1 step: s (not: s 1.305x)"),
+])
+def test_failing_values_never_round_onto_the_threshold(results, text):
+    """1.699 next to ">= 1.7x" printed as "1.70x" read as a pass: a failing figure, or one within
+    0.01 of its threshold, has 3 decimals (more if it would still print as the threshold)."""
+    measured = " | ".join(r["measured"] for r in judge(results))
+    assert text in measured

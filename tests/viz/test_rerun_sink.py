@@ -186,6 +186,7 @@ def test_compare_logs_each_method(tmp_path, ccd, methods):
             assert [got[key][k][0] for k in range(n)] == [s[key] for s in want], (m, key)
         assert all((got["contour_ms"][k][0] > 0) == (want[k]["contour_tests"] > 0) for k in range(n)), m
         assert all(got["query_ms"][k][0] > 0 for k in range(n)), m
+        assert rows_by_frame_static(path, f"{base}/contour_ms", "SeriesLines:names") == [f"{m}: contour-test ms"]
     assert max(s["contour_tests"] for s in _replay(F, frames, "cbc", ccd)) > 0
 
 
