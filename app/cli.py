@@ -68,6 +68,10 @@ def main(argv: list[str] | None = None) -> int:
                                                       "at --frame)")
     p.add_argument("--arithmetic", choices=["float", "conservative", "exact"], default="exact",
                    help="CCD arithmetic (default exact)")
+    p.add_argument("--since", type=int, default=None,
+                   help="front methods: the first frame the recording queried (`record --frames A:`; default 0): "
+                        "a front depends on every query before, so the frames (steps) from it to --frame are "
+                        "replayed first")
 
     p = sub.add_parser("check", help="is each frame intersection-free (and, with --ccd, each step collision-free)? "
                                      "Prints the first collision found; exit status 1 if any, 0 if none")
@@ -171,8 +175,9 @@ def _check_out_file(out: str) -> None:
     writable_file("--out", out)
 
 
-def _explain_command(args, what: str) -> str:
-    """The `conecull explain` command line for the same input and method as `args`."""
+def _explain_command(args, what: str, since: int = 0) -> str:
+    """The `conecull explain` command line for the same input and method as `args`; since: the
+    first frame queried after frame 0 (a front method's history: --since)."""
     import shlex
 
     from conecull.datasets.inputs import DEFAULT_SCENE
@@ -184,6 +189,8 @@ def _explain_command(args, what: str) -> str:
         words += ["--resolution", str(args.resolution)]
     if args.method != "nc":
         words += ["--method", args.method]
+    if args.method.endswith("+front") and since > 0:
+        words += ["--since", str(since)]
     return " ".join(shlex.quote(w) for w in words) + " " + what
 
 
@@ -223,7 +230,7 @@ def _check(args) -> int:
             bad += 1
             i, j = res.pairs[0]
             print(f"frame {k}: self-intersecting: triangles {i} and {j} intersect; why they were tested: "
-                  + _explain_command(args, f"--frame {k} --pair {i} {j}"))
+                  + _explain_command(args, f"--frame {k} --pair {i} {j}", rng[0]))
         else:
             print(f"frame {k}: intersection-free")
         if args.ccd and k + 1 in rng:
@@ -240,7 +247,8 @@ def _check(args) -> int:
             bad += 1
             print(f"step {k} -> {k + 1}: contact ({args.arithmetic}): {what}, {time_bound(step.toi[0], 6)}; "
                   "why: " + _explain_command(args, f"--frame {k} --ccd --face {contact_face(mesh, step)}"
-                                             + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else "")))
+                                             + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else ""),
+                                             rng[0]))
     kinds = "frames and steps" if args.ccd else "frames"
     print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide{'s' if bad == 1 else ''}" if bad else
           f"{len(F)} triangles, method {args.method}: no collision in the {kinds} checked")
@@ -373,7 +381,7 @@ def _run(args) -> int:
 
             what = first_collision_args(F, frames, hit, args.method, args.ccd, args.arithmetic)
             print(f"first collision recorded at {'step' if args.ccd else 'frame'} {hit}; why it was not culled "
-                  f"away: {_explain_command(args, what)}")
+                  f"away: {_explain_command(args, what, rng[0])}")
         return 0
     if args.command == "view":
         import conecull
@@ -405,22 +413,35 @@ def _run(args) -> int:
         col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]), method=args.method)
         col.dcd(frames[0])  # the BVH (and so node ids) come from the first frame, as in `record`
         k = args.frame
-        # A front method resumes the front of its previous query of the same kind (Alg. 4): replay
-        # the previous frame's (step's), as `record` of consecutive frames queries it.
-        front = args.method.endswith("+front") and k > 0
+        # A front method's front depends on every query before (Alg. 4: a front that churned rests
+        # for several queries): replay the queries `record --frames A:` makes before frame k
+        # (frame 0 to build the BVH, then A..k-1; CCD: the steps A..k-1), so the story is the
+        # recording's.
+        front = args.method.endswith("+front")
+        since = 0 if args.since is None else args.since
+        if args.since is not None and not front:
+            raise ValueError(f"--since: only for a front method (aabb+front, nc+front): {args.method!r} keeps no "
+                             "front, so no earlier query changes its answer")
+        if not 0 <= since <= k:
+            raise ValueError(f"--since: {since} is out of range: the recording's first frame, in 0..--frame ({k})")
+        if front:
+            for j in range(since, k):
+                if args.ccd:
+                    col.ccd(frames[j], frames[j + 1], arithmetic=args.arithmetic)
+                else:
+                    col.dcd(frames[j])
         if args.ccd:
-            if front:
-                col.ccd(frames[k - 1], frames[k], arithmetic=args.arithmetic)
             res = col.ccd(frames[k], frames[k + 1], arithmetic=args.arithmetic, trace=True, toi=True)
             head = f"step {k} -> {k + 1} ({args.arithmetic}), method {args.method}"
         else:
-            if front and k > 1:
-                col.dcd(frames[k - 1])
             res = col.dcd(frames[k], trace=True)
             head = f"frame {k}, method {args.method}"
-        what = "step" if args.ccd else "frame"
-        head += (f" (its front resumed from the query of {what} {k - 1}, as a recording of consecutive {what}s "
-                 "has it):" if front else ":")
+        what = "steps" if args.ccd else "frames"
+        head += (f" (its front from replaying the queries of `record --frames {since}:` before this one: frame 0, "
+                 f"then {what} {since}..{k - 1}):" if front and k > since else
+                 f" (its front from the query of frame 0, as `record --frames {k}:` has it):" if front and not args.ccd
+                 else " (its front built from the top: no earlier CCD query, as `record --frames "
+                 f"{k}: --ccd` has it):" if front else ":")
         if args.node is not None:
             text = explain_node(col, res, args.node, node_name="--node")
         elif args.face is not None:

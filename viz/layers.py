@@ -6,8 +6,10 @@ cone failed < inside a node whose contour test failed or could not run < inside 
 deepest node that judged it. The traversal descends below a failing node until a node is culled,
 so most faces end in a culled node: their green is shaded by that node's depth (deep green for a
 node near the root, paler for a small one deep in the BVH), and the culled nodes' boundary
-contours (the contour their test passed) outline the culled patches. Only a leaf that fails
-leaves its faces yellow or orange; the failing nodes above are drawn as boxes instead.
+contours (the contour their test passed) outline the culled patches. Faces stay yellow or orange
+only where nothing below the failing node was judged: a failing leaf, or a lone triangle under a
+failing node (a single triangle is never tested: it has nothing to collide with); the failing
+nodes above are drawn as boxes (rerun; in the viewer, behind a checkbox).
 """
 
 from __future__ import annotations
@@ -21,7 +23,6 @@ from conecull.trace import CONE_TOO_WIDE, REASONS, explain, reason_name
 UNTESTED, CONE_FAILED, CONTOUR_FAILED, CULLED, COLLIDING = range(5)
 STATUS_NAMES = ("not examined", "cone too wide", "contour failed", "culled", "colliding")
 STATUS_COLORS = np.array([[190, 190, 190], [235, 195, 60], [240, 130, 40], [80, 175, 95], [215, 40, 40]], np.uint8)
-COLOR_WORDS = ("grey", "yellow", "orange", "green", "red")  # of STATUS_COLORS, for legends in words
 CULLED_PALE = 0.5  # how far toward white the green of a culled face goes at the BVH's deepest level
 CULLED_CONTOUR_COLOR = (30, 110, 50)  # the culled nodes' outlines: a darker green than any culled face
 KERNEL_NOT_FOUND = next(c for c, (name, _) in REASONS.items() if name == "no_kernel_on_search_line")  # sct's
@@ -30,9 +31,10 @@ CONE_TOO_WIDE_CODE = -1  # in FrameLayers.node_codes: the node's cone test faile
 # One colour per contour reason (trace.REASONS: Alg. 1 failures 1-5, the sct and cbc baselines' 6
 # and 7, ineligible 16+); tests check that every reason has one.
 REASON_COLORS = {
-    0: (80, 175, 95), 1: (150, 80, 200), 2: (240, 130, 40), 3: (60, 140, 230), 4: (220, 60, 160), 5: (120, 120, 120),
-    6: (40, 170, 200), 7: (190, 150, 30),
-    17: (90, 90, 90), 18: (160, 60, 60), 19: (100, 160, 160), 20: (200, 200, 80), 21: (140, 100, 60), 22: (60, 100, 60),
+    0: CULLED_CONTOUR_COLOR, 1: (150, 80, 200), 2: (240, 130, 40), 3: (60, 140, 230), 4: (220, 60, 160),
+    5: (120, 120, 120), 6: (40, 170, 200), 7: (0, 120, 120),
+    # the ineligible ones: none green (culled) nor yellow (cone too wide)
+    17: (90, 90, 90), 18: (160, 60, 60), 19: (100, 160, 160), 20: (170, 170, 225), 21: (140, 100, 60), 22: (100, 60, 140),
 }
 
 
@@ -48,14 +50,11 @@ class FrameLayers:
     contour_reasons: np.ndarray
     kernels: np.ndarray           # (c, 3) at the pose drawn (CCD: the end pose, so o at t = 1)
     rays: np.ndarray              # (c, 3) vectors, scaled to the node size
-    cone_nodes: np.ndarray        # nodes whose cone or contour test failed (or could not run)
-    cone_origins: np.ndarray      # their box centres
-    cone_vectors: np.ndarray      # their cone axes, scaled to the node size; zero where unbounded
-    cone_bounded: np.ndarray      # the cone was bounded (an axis exists: draw it)
+    cone_nodes: np.ndarray        # nodes not culled: cone too wide, contour failed, or ineligible
     node_codes: np.ndarray        # per cone node: CONE_TOO_WIDE_CODE or its contour reason
     node_colors: np.ndarray       # (c, 3) uint8: yellow for a cone too wide, else REASON_COLORS
     node_labels: list             # per cone node: "node 17: not_star_shaped", as the log names it
-    axis_nodes: np.ndarray        # nodes whose cone was bounded and whose contour was tested (culled or not)
+    axis_nodes: np.ndarray        # nodes whose cone was bounded: culled, contour failed, or ineligible
     axis_origins: np.ndarray      # their box centres
     axis_vectors: np.ndarray      # their cone axes (the contour test's projection direction), scaled to the node
     axis_colors: np.ndarray       # dark green where culled, else the contour reason's colour
@@ -147,15 +146,10 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
                             for c in node_codes], np.uint8).reshape(-1, 3)
     node_labels = [f"node {n}: {CONE_TOO_WIDE[0] if c == CONE_TOO_WIDE_CODE else reason_name(int(c))}"
                    for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
-    centers = 0.5 * (box[cone_nodes, 0] + box[cone_nodes, 1])
-    vecs = np.array([axes_of[int(n)] * 0.5 * size[n] for n in cone_nodes]).reshape(-1, 3)
-    bounded_nodes = tr.cone["node"][tr.cone["bounded"]]
-    bounded = np.isin(cone_nodes, bounded_nodes)
-    tested = np.isin(tr.contour["node"], bounded_nodes)
+    tested = np.isin(tr.contour["node"], tr.cone["node"][tr.cone["bounded"]])
     axis_nodes = tr.contour["node"][tested].astype(np.int64)
     axis_codes = tr.contour["reason"][tested]
-    axis_colors = np.array([CULLED_CONTOUR_COLOR if c == 0 else REASON_COLORS[int(c)] for c in axis_codes],
-                           np.uint8).reshape(-1, 3)
+    axis_colors = np.array([REASON_COLORS[int(c)] for c in axis_codes], np.uint8).reshape(-1, 3)
 
     # Failed contours first (the rarer and more telling verdict: a log cut short keeps them).
     sentences = []
@@ -176,7 +170,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
         face_status=status, face_colors=colors, face_node=face_node, culled_nodes=culled_nodes,
         culled_strips=culled_strips, contour_nodes=cnodes, contour_strips=strips,
         contour_reasons=tr.contour["reason"][fail], kernels=kernels, rays=proj,
-        cone_nodes=cone_nodes, cone_origins=centers.reshape(-1, 3), cone_vectors=vecs, cone_bounded=bounded,
+        cone_nodes=cone_nodes,
         node_codes=node_codes, node_colors=node_colors, node_labels=node_labels, axis_nodes=axis_nodes,
         axis_origins=(0.5 * (box[axis_nodes, 0] + box[axis_nodes, 1])).reshape(-1, 3),
         axis_vectors=np.array([axes_of[int(n)] * 0.5 * size[n] for n in axis_nodes]).reshape(-1, 3),
@@ -221,8 +215,8 @@ def status_legend() -> list[tuple[str, tuple]]:
     """The key of the verdict colouring (face_colors): (name, colour) per face status."""
     names = list(STATUS_NAMES)
     names[CULLED] += " (paler: a smaller node, deeper in the BVH)"
-    names[CONE_FAILED] += " (a leaf)"
-    names[CONTOUR_FAILED] += " (a leaf)"
+    names[CONE_FAILED] += " (nothing below it judged)"
+    names[CONTOUR_FAILED] += " (nothing below it judged)"
     return [(name, tuple(int(c) for c in STATUS_COLORS[i])) for i, name in enumerate(names)]
 
 

@@ -10,7 +10,7 @@ Entities (per-node data is batched into a few entities, never one entity per nod
   /scene/contours/failed  LineStrips3D, one closed strip per node whose contour test failed
   /scene/contours/kernel  Points3D, their kernel points o (not for cbc, nor where sct found none)
   /scene/contours/ray     Arrows3D, their rays r (projected on the plane of the test)
-  /scene/cones            Arrows3D, the axis of each cone bounded and contour-tested (culled or not)
+  /scene/cones            Arrows3D, the axis of each bounded cone (culled, contour failed, ineligible)
   /scene/bvh              Boxes3D, BVH nodes at the chosen depth
   /stats/...              Scalars, named in words (SERIES_NAMES): tests (box tests for every
                           method), verdicts by reason (methods with cones), collisions or CCD
@@ -121,13 +121,16 @@ SERIES_NAMES = {
 }
 
 
-def status_legend_markdown(depth: int) -> str:
+def status_legend_markdown(depth: int | None) -> str:
     """The face colours, in words and rgb, and what the 3D view's other layers mean."""
+    deepest = "" if depth is None else f", {depth}"
     words = {L.CULLED: f"green: inside a culled node (deep green for a node near the root, paler down to the BVH's "
-                       f"deepest level, {depth}): no two of its triangles can collide",
+                       f"deepest level{deepest}): no two of its triangles can collide",
              L.UNTESTED: "grey: not examined by normal cones (aabb methods have none)",
-             L.CONE_FAILED: "yellow: inside a leaf whose normal cone could not be bounded below 180 degrees",
-             L.CONTOUR_FAILED: "orange: inside a leaf whose contour test failed (or which has no single simple contour)",
+             L.CONE_FAILED: "yellow: the deepest node judged, a leaf or one holding it, could not bound its normal "
+                            "cone below 180 degrees (a lone triangle is never tested: nothing to collide with)",
+             L.CONTOUR_FAILED: "orange: the deepest node judged failed its contour test (or has no single simple "
+                               "contour)",
              L.COLLIDING: "red: colliding"}
     rows = [f"- **{L.STATUS_NAMES[i]}**, {words[i]}; rgb{tuple(int(c) for c in L.STATUS_COLORS[i])}"
             for i in range(len(L.STATUS_NAMES))]
@@ -142,8 +145,8 @@ def status_legend_markdown(depth: int) -> str:
         "- **scene/contours/failed**: the boundary contour of each node whose contour test failed, in its reason's "
         "colour, with its kernel point and ray (none for cbc's edge-pair test, nor where sct found no kernel point).",
         "- **scene/cones**: the axis of each node's cone that was bounded, the direction its contour test "
-        "projects along: dark green where the node was culled, else its contour reason's colour (a cone too wide "
-        "has no axis).",
+        "projects along: dark green where the node was culled, else its reason's colour (a cone too wide has no "
+        "axis).",
         "- **scene/collisions** (DCD): one point per colliding pair; **scene/contacts** (CCD): vertex-face points and "
         "edge-edge strips, labelled with a certified lower bound on the time of contact.",
         "- **scene/bvh**: the BVH boxes at one depth.",
@@ -156,7 +159,7 @@ class RerunRecorder:
 
     def __init__(self, path: str, faces: np.ndarray, *, recording_id: str | None = None, bvh_depth: int = 4,
                  app_id: str = "conecull", front: bool = False, compare: tuple = (), method: str = "nc",
-                 about: str = "", deepest: int = 0, stream: rr.RecordingStream | None = None,
+                 about: str = "", deepest: int | None = None, stream: rr.RecordingStream | None = None,
                  layout: bool = True):
         """stream: log to this (connected) stream instead of a new one saved to path; layout: send
         the default blueprint (the screenshots send their own)."""
@@ -175,7 +178,6 @@ class RerunRecorder:
                      static=True)
         if about:
             self.rec.log("/about", rr.TextDocument(about, media_type=rr.MediaType.MARKDOWN), static=True)
-        self.previous = None  # the frame of the previous query (front methods: whence the front came)
         self._named = set()
 
     def _scalar(self, path: str, value, name: str | None = None):

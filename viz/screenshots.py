@@ -44,7 +44,7 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
     import conecull
     from conecull.datasets.inputs import load_sequence
     from conecull.viz.compare import compared_colliders, timed_query
-    from conecull.viz.rerun_sink import RerunRecorder, blueprint, compare_path
+    from conecull.viz.rerun_sink import RerunRecorder, about_markdown, blueprint, compare_path
 
     web, grpc = _free_port(), _free_port()
     exe = os.path.join(os.path.dirname(rerun_cli.__file__), "rerun")
@@ -57,8 +57,11 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
         col.dcd(frames[0])
         stream = rr.RecordingStream("conecull", recording_id="screenshot")  # same logging, sent over gRPC
         stream.connect_grpc(f"rerun+http://127.0.0.1:{grpc}/proxy")
-        rec = RerunRecorder(None, conecull.Mesh(F).faces, stream=stream, method=method, bvh_depth=4,
-                            deepest=int(col.bvh_arrays()["depth"].max()), layout=False)
+        deepest = int(col.bvh_arrays()["depth"].max())
+        about = about_markdown(method, False, "exact", f"the scene `{scene}`", len(frames), range(frame + 1), len(F),
+                               4, deepest, compare)
+        rec = RerunRecorder(None, conecull.Mesh(F).faces, stream=stream, method=method, bvh_depth=4, deepest=deepest,
+                            about=about, layout=False)
         if front_view:
             import rerun.blueprint as rrb
 

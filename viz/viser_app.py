@@ -172,6 +172,7 @@ class ViewerApp:
             self.show_contours = gui.add_checkbox("failing contours", initial_value=True)
             self.show_culled = gui.add_checkbox("culled patches' contours", initial_value=True)
             self.show_cones = gui.add_checkbox("cone axes", initial_value=False)
+            self.show_failed = gui.add_checkbox("boxes of the nodes not culled", initial_value=False)
             self.show_boxes = gui.add_checkbox("BVH boxes at depth", initial_value=False)
         self.legend_md = gui.add_markdown(legend_markdown(L.status_legend()))  # follows the colouring shown
         self.stats_md = gui.add_markdown("")
@@ -186,7 +187,7 @@ class ViewerApp:
         self.pick.on_update(lambda _event: self._pick())
 
         for handle in (self.frame, self.query, self.method, self.depth, self.show_mesh, self.colour_by, self.show_contours,
-                       self.show_culled, self.show_cones, self.show_boxes, self.compare):
+                       self.show_culled, self.show_cones, self.show_failed, self.show_boxes, self.compare):
             handle.on_update(lambda _event: self._update_or_show_error())
         # A click anywhere in the scene, then our own ray test on the shown pose: a click binding
         # on the mesh would make viser outline it when hovered, in yellow, on its back faces
@@ -282,6 +283,10 @@ class ViewerApp:
                 arrows = np.stack([lay.axis_origins, lay.axis_origins + lay.axis_vectors], axis=1)
                 scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), lay.axis_colors,
                                  shaft_radius=0.002, head_radius=0.006, head_length=0.012, visible=bool(self.show_cones.value))
+                # box_segments lists edge by edge over all boxes: the colours repeat per edge
+                scene.add_line_segments("/failed_nodes", box_segments(lay.box_lo, lay.box_hi),
+                                        np.repeat(np.tile(lay.node_colors, (12, 1))[:, None], 2, axis=1), thickness=1.5,
+                                        thickness_units="screen", visible=bool(self.show_failed.value))
                 bvh = col.bvh_arrays()
                 sel = np.flatnonzero(bvh["depth"] == d)
                 scene.add_line_segments("/bvh", box_segments(bvh["box"][sel, 0], bvh["box"][sel, 1]), (120, 120, 200),

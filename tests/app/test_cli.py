@@ -1,6 +1,7 @@
 """The CLI: record, explain, and its errors (run in-process through main())."""
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -410,30 +411,47 @@ def test_check_record_and_explain_agree_on_the_first_pair(tmp_path, capsys):
 
 
 def test_explain_tells_a_front_methods_story_as_the_recording_does(tmp_path, capsys):
-    """A front method's verdict depends on the previous query (Alg. 4): `explain` replays the
-    previous frame's, as `record` of consecutive frames queries it, so the sentence is the log's
-    (it said "built from the top" while the recording said "resumed, then dropped for churning")."""
-    import sys
-
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "viz"))
-    from test_rerun_sink import _log_rows
+    """A front method's verdict depends on every query before (Alg. 4: a front that churned rests
+    for several queries): `explain` replays the queries `record --frames A:` made (--since A), so
+    its sentence for each collision is the recording's log line, frame by frame (it replayed
+    nothing and said "built from the top" where the recording said "resumed, then dropped for
+    churning")."""
+    from rrd_helpers import log_rows
 
     path = str(tmp_path / "f.rrd")
-    for ccd in ([], ["--ccd"]):
-        assert main(["record", "fold", "--frames", "26:30", "--method", "nc+front", "--out", path] + ccd) == 0
+    modes = set()
+    for scene, frames, ccd in (("roll", "0:30", []), ("fold", "25:30", []), ("fold", "25:29", ["--ccd"])):
+        assert main(["record", scene, "--frames", frames, "--method", "nc+front", "--out", path] + ccd) == 0
         capsys.readouterr()
-        k = 29 if not ccd else 27
-        what = ["--pair", "18", "56"] if not ccd else ["--face", "62"]
-        assert main(["explain", "fold", "--frame", str(k), "--method", "nc+front"] + what + ccd) == 0
-        text = capsys.readouterr().out.splitlines()
-        assert "its front resumed from the query of " + ("step" if ccd else "frame") + f" {k - 1}" in text[0]
-        logged = [t for _, t in _log_rows(path)[k]]
-        said = text[1] if not ccd else text[2]  # CCD: the face's first contact, after "triangle 62 takes part in ..."
-        assert said in logged, (said, logged[:3])
+        since = frames.split(":")[0]
+        log = log_rows(path)
+        checked = 0
+        for k, rows in sorted(log.items()):
+            warn = [t for level, t in rows if level == "WARN" and not t.startswith("...")]
+            if not warn:
+                continue
+            if ccd:
+                m = re.match(r"vertex (\d+) touches triangle (\d+)", warn[0]) or re.match(r"edges", warn[0])
+                if m is None or not m.groups():
+                    continue
+                what = ["--face", m[2]]
+            else:
+                m = re.match(r"triangles (\d+) and (\d+) intersect", warn[0])
+                what = ["--pair", m[1], m[2]]
+            argv = ["explain", scene, "--frame", str(k), "--method", "nc+front", "--since", since] + what + ccd
+            assert main(argv) == 0
+            text = capsys.readouterr().out.splitlines()
+            said = text[2] if ccd else text[1]  # CCD: the face's first contact, after "triangle F takes part in"
+            assert said == warn[0], (argv, said, warn[0])
+            modes |= {w for w in ("resumed", "built from the top", "churning", "rests", "Collide from the top")
+                      if w in said}
+            checked += 1
+        assert checked >= 2, (scene, frames, ccd)
+    assert {"resumed", "churning"} <= modes, modes  # a history longer than one query mattered
 
 
-def test_bench_all_refuses_an_option_it_would_ignore_before_making_out(tmp_path, capsys):
-    out = tmp_path / "o"
-    assert main(["bench", "all", "--skip", "scaling", "--sizes", "16000", "--out", str(out)]) == 2
-    assert "--sizes: the scaling section is skipped (--skip scaling)" in capsys.readouterr().err
-    assert not out.exists()
+def test_explain_since_is_checked(capsys):
+    assert main(["explain", "fold", "--frame", "5", "--pair", "0", "1", "--since", "2"]) == 2
+    assert "--since: only for a front method" in capsys.readouterr().err
+    assert main(["explain", "fold", "--frame", "5", "--pair", "0", "1", "--since", "6", "--method", "nc+front"]) == 2
+    assert "--since: 6 is out of range" in capsys.readouterr().err

@@ -9,7 +9,7 @@ import pytest
 import rerun as rr
 from rerun.chunk import RrdReader
 
-from rrd_helpers import rows_by_frame
+from rrd_helpers import log_rows, rows_by_frame, rows_by_frame_static
 
 import conecull
 from conecull.datasets.inputs import load_sequence
@@ -260,24 +260,6 @@ def test_baselines_own_failures_are_recorded(tmp_path, method, frames, code):
                                                                              c["reason"][fail].tolist())], k
 
 
-def _log_rows(path):
-    """{frame: [(level, text), ...]} of /log, in logging order (row ids, TUIDs, sort in it; the
-    rows of one frame may span chunks)."""
-    rows = []
-    for chunk in RrdReader(path).stream().collect().stream():
-        rb = chunk.to_record_batch()
-        if (rb.schema.metadata or {}).get(b"rerun:entity_path", b"").decode() != "/log":
-            continue
-        names = rb.schema.names
-        rows += zip(rb.column(names.index("rerun.controls.RowId")).to_pylist(), rb.column(names.index("frame")).to_pylist(),
-                    rb.column(names.index("TextLog:level")).to_pylist(), rb.column(names.index("TextLog:text")).to_pylist())
-    out = {}
-    for _, f, level, text in sorted(rows, key=lambda r: r[0]):
-        out.setdefault(f, []).append((level[0] if isinstance(level, list) else level,
-                                      text[0] if isinstance(text, list) else text))
-    return out
-
-
 def test_collisions_are_named_and_explained(recording):
     """Which triangles collide is in the recording, by id: a labelled point per colliding pair,
     and the log's first lines (warnings) say, per pair, why the smallest node holding both was not
@@ -286,7 +268,7 @@ def test_collisions_are_named_and_explained(recording):
 
     path, F, frames, stats = recording
     labels = rows_by_frame(path, "/scene/collisions", "Points3D:labels")
-    log = _log_rows(path)
+    log = log_rows(path)
     col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=frames.shape[1]))
     col.dcd(frames[0])
     seen = 0
@@ -424,22 +406,9 @@ def test_the_recording_says_what_it_is(tmp_path):
             assert "**CCD** (conservative arithmetic)" in about and "step from frame k to frame k + 1" in about
             assert "26..27" in about
         else:
-            assert "**DCD**" in about and "front" in about
+            assert "**DCD**" in about and "The front (Alg. 4) is kept between queries" in about
         names = rows_by_frame_static(path, "/stats/tests/box", "SeriesLines:names")
         assert names == [SERIES_NAMES["/stats/tests/box"]]
-
-
-def rows_by_frame_static(path, entity, column):
-    """The static rows of `column` for `entity` (logged once, without a frame)."""
-    out = []
-    for chunk in RrdReader(path).stream().collect().stream():
-        rb = chunk.to_record_batch()
-        if (rb.schema.metadata or {}).get(b"rerun:entity_path", b"").decode() != entity:
-            continue
-        if column in rb.schema.names and "frame" not in rb.schema.names:
-            for v in rb.column(rb.schema.names.index(column)).to_pylist():
-                out.append(v[0] if isinstance(v, list) and len(v) == 1 and isinstance(v[0], str) else v)
-    return out
 
 
 def test_methods_without_cones_record_no_cone_layers(tmp_path):
@@ -452,14 +421,14 @@ def test_methods_without_cones_record_no_cone_layers(tmp_path):
     assert not any(e.startswith(("/scene/cones", "/scene/contours", "/scene/culled", "/scene/failed_nodes",
                                  "/stats/verdict", "/stats/tests/cone", "/stats/tests/contour")) for e in got), got
     assert rows_by_frame(path, "/stats/tests/box", "Scalars:scalars")[28] == [stats[0]["bv_tests"]]
-    assert any("no normal cones" in t for _, t in _log_rows(path)[28])
+    assert any("no normal cones" in t for _, t in log_rows(path)[28])
 
 
 def test_the_log_says_what_culling_proved_and_whence_the_front(tmp_path):
     F, P = load_sequence("fold")
     path = str(tmp_path / "front.rrd")
     record(path, F, P, method="nc+front", frame_range=range(23, 27))
-    log = {k: [t for _, t in rows] for k, rows in _log_rows(path).items()}
+    log = {k: [t for _, t in rows] for k, rows in log_rows(path).items()}
     assert any(t.startswith("the root (all 2048 triangles) was culled") for t in log[23])
     assert any(t.startswith("front: 0 entries") and "since the previous query (frame 0)" in t for t in log[23])
     assert any("since the previous query (frame 25)" in t for t in log[26])

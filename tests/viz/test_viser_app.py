@@ -412,8 +412,18 @@ def test_culled_patches_and_cone_axes_are_drawn():
         assert len(lay.culled_strips) > 3 and len(points) == sum(len(s) - 1 for s in lay.culled_strips)
         arrows = _node(app, "/cones")
         assert arrows is not None
-        assert len(np.asarray(arrows._impl.props.points)) == len(lay.axis_nodes) == len(lay.culled_nodes)
+        assert len(np.asarray(arrows._impl.props.points)) == len(lay.axis_nodes) == app.res.stats["cone_passed"]
         app.show_culled.value = False
         assert not _node(app, "/culled").visible
+        # the nodes not culled, as boxes coloured by verdict (hidden until asked for)
+        boxes = _node(app, "/failed_nodes")
+        assert boxes is not None and not boxes.visible
+        app.show_failed.value = True
+        boxes = _node(app, "/failed_nodes")
+        s = app.res.stats
+        n = s["cone_tests"] - s["cone_passed"] + s["contour_failed"] + s["contour_ineligible"]
+        assert boxes.visible and n > 0 and len(np.asarray(boxes._impl.props.points)) == 12 * n
+        colors = np.asarray(boxes._impl.props.colors).reshape(12, n, 2, 3)
+        assert (colors == lay.node_colors[None, :, None, :]).all()
     finally:
         app.close()
