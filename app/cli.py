@@ -218,6 +218,8 @@ def _check(args) -> int:
     if args.arithmetic != "exact" and not args.ccd:
         raise ValueError("--arithmetic: only with --ccd (a DCD query has no arithmetic mode)")
     F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
+    if args.ccd and len(frames) < 2:
+        raise ValueError("--ccd: the input has one frame, so no step from a frame to the next to check")
     rng = parse_frames(args.frames, len(frames))
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
     col = conecull.SelfCollider(mesh, method=args.method)
@@ -250,8 +252,9 @@ def _check(args) -> int:
                                              + (f" --arithmetic {args.arithmetic}" if args.arithmetic != "exact" else ""),
                                              rng[0]))
     kinds = "frames and steps" if args.ccd else "frames"
-    print(f"{len(F)} triangles, method {args.method}: {bad} of the {kinds} checked collide{'s' if bad == 1 else ''}" if bad else
-          f"{len(F)} triangles, method {args.method}: no collision in the {kinds} checked")
+    tris = _plural(len(F), "triangle")
+    print(f"{tris}, method {args.method}: {bad} of the {kinds} checked collide{'s' if bad == 1 else ''}" if bad else
+          f"{tris}, method {args.method}: no collision in the {kinds} checked")
     return 1 if bad else 0
 
 
@@ -373,7 +376,7 @@ def _run(args) -> int:
                        if sys.stderr.isatty() or len(rng) > 1 else None, ccd=args.ccd,
                        arithmetic=args.arithmetic, compare=compare, source=_source_words(args))
         kind = f"{_plural(len(stats), 'CCD step')} ({args.arithmetic})" if args.ccd else _plural(len(stats), "frame")
-        print(f"wrote {args.out}: {kind}, {len(F)} triangles, method {args.method}; "
+        print(f"wrote {args.out}: {kind}, {_plural(len(F), 'triangle')}, method {args.method}; "
               f"open it with: {rerun_command(args.out)}")
         hit = next((k for k, s in zip(rng, stats) if s["colliding_pairs"]), None)
         if hit is not None:  # the triage question for the first collision recorded
@@ -406,6 +409,8 @@ def _run(args) -> int:
         if args.arithmetic != "exact" and not args.ccd:
             raise ValueError("--arithmetic: only with --ccd (a DCD query has no arithmetic mode)")
         F, frames = load_sequence(args.input, args.positions, args.resolution)
+        if args.ccd and len(frames) < 2:
+            raise ValueError("--ccd: the input has one frame, so no step from a frame to the next to explain")
         last = len(frames) - 1 - bool(args.ccd)  # a step needs the next frame
         if not 0 <= args.frame <= last:
             raise ValueError(f"--frame: {args.frame} is out of range: the input has frames 0..{len(frames) - 1}"

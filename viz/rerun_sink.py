@@ -16,6 +16,8 @@ Entities (per-node data is batched into a few entities, never one entity per nod
                           method), verdicts by reason (methods with cones), collisions or CCD
                           contacts, ms per stage (contour tests included), front entries
                           added/removed (front methods); one plot per kind
+  /story                  TextDocument: the same lines as /log, one page per frame (the log view
+                          cuts long lines; a page wraps them)
   /log                    TextLog: per frame, first one sentence per collision (warning level: what
                           collides, and why the smallest node holding it was not culled; the
                           first MAX_COLLISION_LINES), then where a front method's front came
@@ -44,6 +46,7 @@ import rerun as rr
 import rerun.blueprint as rrb
 
 from conecull.datasets import checks
+from conecull.trace import REASONS
 from conecull.viz import layers as L
 from conecull.viz.compare import compared_colliders, timed_query
 from conecull.viz.explain import NO_CONES, collision_sentences, time_floor
@@ -78,6 +81,7 @@ def blueprint(front: bool = False, compare: tuple = (), cones: bool = True) -> r
                                      contents=[f"+ {compare_path(m)}/contour_ms" for m in compare]),
                   rrb.TimeSeriesView(origin="/stats/compare", name="methods compared")]
     texts = [rrb.TextLogView(origin="/log", name="why not culled"),
+             rrb.TextDocumentView(origin="/story", name="why not culled (whole lines)"),
              rrb.TextDocumentView(origin="/legend", name="face colours"),
              rrb.TextDocumentView(origin="/about", name="about this recording")]
     if front:
@@ -110,7 +114,7 @@ SERIES_NAMES = {
     "/stats/tests/contour": "contour tests", "/stats/tests/elementary": "elementary tests",
     "/stats/tests/vf": "vertex-face tests", "/stats/tests/ee": "edge-edge tests",
     "/stats/verdict/culled": "culled (contour passed)", "/stats/verdict/cone_too_wide": "cone too wide",
-    "/stats/verdict/ineligible": "no single simple contour",
+    "/stats/verdict/ineligible": "not eligible for the contour test (non-manifold, not one patch, holes...)",
     "/stats/collisions": "colliding triangle pairs", "/stats/ccd/vf_contacts": "vertex-face contacts",
     "/stats/ccd/ee_contacts": "edge-edge contacts",
     "/stats/ccd/npf_culled": "pairs culled by the non-penetration filter",
@@ -121,12 +125,21 @@ SERIES_NAMES = {
 }
 
 
+# The plotted verdicts in the colours the mesh and boxes use for them.
+SERIES_COLORS = {"/stats/verdict/culled": tuple(int(c) for c in L.STATUS_COLORS[L.CULLED]),
+                 "/stats/verdict/cone_too_wide": tuple(int(c) for c in L.STATUS_COLORS[L.CONE_FAILED]),
+                 "/stats/collisions": tuple(int(c) for c in L.STATUS_COLORS[L.COLLIDING]),
+                 **{f"/stats/verdict/contour_{name}": L.REASON_COLORS[code] for code, (name, _) in REASONS.items()}}
+MARKER = (20, 20, 20)  # collision points and contact strips: dark, on the red of the colliding faces
+
+
 def status_legend_markdown(depth: int | None) -> str:
     """The face colours, in words and rgb, and what the 3D view's other layers mean."""
     deepest = "" if depth is None else f", {depth}"
     words = {L.CULLED: f"green: inside a culled node (deep green for a node near the root, paler down to the BVH's "
                        f"deepest level{deepest}): no two of its triangles can collide",
-             L.UNTESTED: "grey: not examined by normal cones (aabb methods have none)",
+             L.UNTESTED: "grey: not examined by normal cones (aabb methods have none; a mesh of one triangle has "
+                         "nothing to test)",
              L.CONE_FAILED: "yellow: the deepest node judged, a leaf or one holding it, could not bound its normal "
                             "cone below 180 degrees (a lone triangle is never tested: nothing to collide with)",
              L.CONTOUR_FAILED: "orange: the deepest node judged failed its contour test (or has no single simple "
@@ -147,8 +160,9 @@ def status_legend_markdown(depth: int | None) -> str:
         "- **scene/cones**: the axis of each node's cone that was bounded, the direction its contour test "
         "projects along: dark green where the node was culled, else its reason's colour (a cone too wide has no "
         "axis).",
-        "- **scene/collisions** (DCD): one point per colliding pair; **scene/contacts** (CCD): vertex-face points and "
-        "edge-edge strips, labelled with a certified lower bound on the time of contact.",
+        "- **scene/collisions** (DCD): one dark point per colliding pair, labelled (on hover) with the two triangles; "
+        "**scene/contacts** (CCD): vertex-face points and edge-edge strips, labelled with a certified lower bound on "
+        "the time of contact.",
         "- **scene/bvh**: the BVH boxes at one depth.",
         "", "Contour reasons and their colours: " + ", ".join(
             f"{name} rgb{tuple(c)}" for name, c in L.reason_legend()) + "."])
@@ -185,7 +199,8 @@ class RerunRecorder:
         if path not in self._named:
             self._named.add(path)
             name = name or SERIES_NAMES.get(path, path.rsplit("/", 1)[-1].replace("_", " "))
-            self.rec.log(path, rr.SeriesLines(names=name), static=True)
+            color = SERIES_COLORS.get(path)
+            self.rec.log(path, rr.SeriesLines(names=name, colors=[color] if color else None), static=True)
         self.rec.log(path, rr.Scalars(value))
 
     def log_frame(self, frame: int, col, V: np.ndarray, res, previous: int | None = None) -> L.FrameLayers:
@@ -228,18 +243,18 @@ class RerunRecorder:
         if ccd:  # the contacts of the step
             n_vf = len(res.vf)
             toi = res.toi if res.toi is not None else np.full(n_vf + len(res.ee), np.nan)
-            rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[[215, 40, 40]], radii=-5.0,
+            rec.log("/scene/contacts/vf", rr.Points3D(V[res.vf[:, 0]], colors=[MARKER], radii=-5.0, show_labels=False,
                                                      labels=[f"v{v} f{f} t>={time_floor(t, 3)}" for (v, f), t in
                                                              zip(res.vf.tolist(), toi[:n_vf])]))
             E = col.mesh.edges
             strips = [np.vstack([V[E[a]], V[E[b]][::-1]]) for a, b in res.ee]  # both edges of a pair
-            rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[[215, 40, 40]], radii=-2.0,
+            rec.log("/scene/contacts/ee", rr.LineStrips3D(strips, colors=[MARKER], radii=-2.0, show_labels=False,
                                                          labels=[f"e{a} e{b} t>={time_floor(t, 3)}" for (a, b), t in
                                                                  zip(res.ee.tolist(), toi[n_vf:])]))
         else:  # DCD: which triangles intersect, by id
             c = V[self.faces].mean(axis=1)
             rec.log("/scene/collisions", rr.Points3D(0.5 * (c[res.pairs[:, 0]] + c[res.pairs[:, 1]]).reshape(-1, 3),
-                                                     colors=[[215, 40, 40]], radii=-4.0,
+                                                     colors=[MARKER], radii=-4.0, show_labels=False,
                                                      labels=[f"{i} x {j}" for i, j in res.pairs.tolist()]))
         s = res.stats
         self._scalar("/stats/tests/box", s["bv_tests"])
@@ -280,28 +295,38 @@ class RerunRecorder:
 
         n_hits = len(res.vf) + len(res.ee) if ccd else len(res.pairs)
         hits = collision_sentences(col, res, MAX_COLLISION_LINES)
+        story = []  # the log's lines, also as one page per frame: the log view cuts long lines
+
+        def say(line, level=rr.TextLogLevel.INFO):
+            rec.log("/log", rr.TextLog(line, level=level))
+            story.append(line)
+
         for line in hits:
-            rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.WARN))
+            say(line, rr.TextLogLevel.WARN)
         if n_hits > len(hits):
-            rec.log("/log", rr.TextLog(f"... and {n_hits - len(hits)} more collisions", level=rr.TextLogLevel.WARN))
+            say(f"... and {n_hits - len(hits)} more collisions", rr.TextLogLevel.WARN)
         if front:
             what = "step" if ccd else "frame"
             since = (f"the previous query ({what} {previous})" if previous is not None and previous != frame else
                      f"the previous query, of this same {what}'s pose" if previous == frame else
                      "no earlier query of this kind: built from the top")
-            rec.log("/log", rr.TextLog(f"front: {s['front_entries']} entries, +{s['front_added']} / -{s['front_removed']} "
-                                       f"since {since} (Alg. 4 keeps the front between queries)",
-                                       level=rr.TextLogLevel.INFO))
+            say(f"front: {s['front_entries']} entries, +{s['front_added']} / -{s['front_removed']} since {since} "
+                "(Alg. 4 keeps the front between queries)")
         if not self.cones:
-            rec.log("/log", rr.TextLog(f"method {self.method}: no normal cones, so no node is culled: every pair of "
-                                       "overlapping boxes is descended to its triangles", level=rr.TextLogLevel.INFO))
+            say(f"method {self.method}: no normal cones, so no node is culled: every pair of overlapping boxes is "
+                "descended to its triangles")
         elif lay.culled_summary:
-            rec.log("/log", rr.TextLog(lay.culled_summary, level=rr.TextLogLevel.INFO))
+            say(lay.culled_summary)
+        elif not lay.sentences and col.mesh.n_faces == 1:
+            say("the mesh is a single triangle: nothing to collide with, so nothing was tested")
         room = MAX_LOG_LINES - len(hits)
         for line in lay.sentences[:room]:
-            rec.log("/log", rr.TextLog(line, level=rr.TextLogLevel.INFO))
+            say(line)
         if len(lay.sentences) > room:
-            rec.log("/log", rr.TextLog(f"... and {len(lay.sentences) - room} more failing nodes", level=rr.TextLogLevel.INFO))
+            say(f"... and {len(lay.sentences) - room} more failing nodes")
+        what = f"step {frame} → {frame + 1}" if ccd else f"frame {frame}"
+        rec.log("/story", rr.TextDocument(f"### Why culled or not, {what}\n\n" + "\n".join(f"- {x}" for x in story),
+                                          media_type=rr.MediaType.MARKDOWN))
         return lay
 
     def log_compare(self, frame: int, method: str, stats: dict, query_ms: float):
@@ -444,7 +469,8 @@ def about_markdown(method: str, ccd: bool, arithmetic: str, source: str | None, 
     return "\n".join([
         "### About this recording",
         f"- Method **{method}**; {kind}.",
-        f"- Input: {source or 'frames given to conecull.viz.rerun_sink.record'}: {n_faces} triangles, "
+        f"- Input: {source or 'frames given to conecull.viz.rerun_sink.record'}: {n_faces} "
+        f"triangle{'' if n_faces == 1 else 's'}, "
         f"{n_frames} frames (counted from 0).",
         f"- The BVH, and so every node id, comes from frame 0, as in `conecull explain` and `conecull view`; "
         f"its depths are 0..{deepest}, and *scene/bvh* draws depth {bvh_depth}.",

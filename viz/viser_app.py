@@ -423,7 +423,7 @@ class ViewerApp:
             self._draw("add_line_segments", "/selected/contour", np.stack([pts[:-1], pts[1:]], axis=1), HIGHLIGHT,
                        thickness=4.0, thickness_units="screen")
         cones = col.cone_arrays()
-        if len(cones["axis"]) > node:
+        if len(cones["axis"]) > node and np.any(cones["axis"][node]):  # a cone too wide has no axis (zero)
             c = 0.5 * (bvh["box"][node, 0] + bvh["box"][node, 1])
             size = float(np.linalg.norm(bvh["box"][node, 1] - bvh["box"][node, 0]))
             self._draw("add_arrows", "/selected/cone", np.array([[c, c + cones["axis"][node] * 0.6 * size]]),

@@ -455,3 +455,16 @@ def test_explain_since_is_checked(capsys):
     assert "--since: only for a front method" in capsys.readouterr().err
     assert main(["explain", "fold", "--frame", "5", "--pair", "0", "1", "--since", "6", "--method", "nc+front"]) == 2
     assert "--since: 6 is out of range" in capsys.readouterr().err
+
+
+def test_ccd_on_a_one_frame_input_is_refused(tmp_path, capsys):
+    """check --ccd printed "no collision in the frames and steps checked" (exit 0) with no step."""
+    (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    np.save(tmp_path / "p.npy", np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], float))
+    args = [str(tmp_path / "m.obj"), "--positions", str(tmp_path / "p.npy"), "--ccd"]
+    assert main(["check"] + args) == 2
+    assert "--ccd: the input has one frame" in capsys.readouterr().err
+    assert main(["explain"] + args + ["--frame", "0", "--face", "0"]) == 2
+    assert "--ccd: the input has one frame" in capsys.readouterr().err
+    assert main(["check"] + args[:-1]) == 0
+    assert "1 triangle, method nc: no collision" in capsys.readouterr().out

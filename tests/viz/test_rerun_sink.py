@@ -260,6 +260,31 @@ def test_baselines_own_failures_are_recorded(tmp_path, method, frames, code):
                                                                              c["reason"][fail].tolist())], k
 
 
+def test_each_frame_has_its_story_as_one_page(recording):
+    """The log view cuts long lines: /story holds each frame's log lines, whole, as one page."""
+    path, F, frames, stats = recording
+    story = rows_by_frame(path, "/story", "TextDocument:text")
+    log = log_rows(path)
+    assert sorted(story) == list(range(len(frames)))
+    for k, rows in log.items():
+        page = story[k][0] if isinstance(story[k], list) else story[k]
+        assert page.splitlines()[2:] == [f"- {t}" for _, t in rows], k
+
+
+def test_verdict_series_wear_the_mesh_colours(tmp_path):
+    from conecull.viz import layers as L
+
+    F, P = load_sequence("fold")
+    path = str(tmp_path / "c.rrd")
+    record(path, F, P, frame_range=[28])
+    packed = lambda rgb: (rgb[0] << 24) | (rgb[1] << 16) | (rgb[2] << 8) | 255  # noqa: E731
+    for entity, rgb in (("/stats/verdict/culled", L.STATUS_COLORS[L.CULLED]),
+                        ("/stats/verdict/cone_too_wide", L.STATUS_COLORS[L.CONE_FAILED]),
+                        ("/stats/collisions", L.STATUS_COLORS[L.COLLIDING])):
+        got = rows_by_frame_static(path, entity, "SeriesLines:colors")
+        assert got == [[packed([int(c) for c in rgb])]] or got == [packed([int(c) for c in rgb])], (entity, got)
+
+
 def test_collisions_are_named_and_explained(recording):
     """Which triangles collide is in the recording, by id: a labelled point per colliding pair,
     and the log's first lines (warnings) say, per pair, why the smallest node holding both was not
@@ -444,6 +469,10 @@ def test_a_small_mesh_records_with_the_default_depth(tmp_path):
     record(path, F, np.stack([V, V + 0.1]))
     boxes = rows_by_frame(path, "/scene/bvh", "Boxes3D:half_sizes")
     assert len(boxes[0]) == 1  # the root: depth 0 is this BVH's deepest
+    one = str(tmp_path / "one.rrd")  # a single triangle: the log says why nothing was tested
+    record(one, F[:1], np.stack([V, V + 0.1]))
+    assert [t for _, t in log_rows(one)[0]] == ["the mesh is a single triangle: nothing to collide with, so nothing "
+                                                "was tested"]
     with pytest.raises(ValueError, match=r"bvh_depth: 1 is deeper than this mesh's BVH, whose nodes are at depths 0\.\.0"):
         record(path, F, np.stack([V, V]), bvh_depth=1)
 

@@ -427,3 +427,20 @@ def test_culled_patches_and_cone_axes_are_drawn():
         assert (colors == lay.node_colors[None, :, None, :]).all()
     finally:
         app.close()
+
+
+def test_no_arrow_for_a_selected_node_whose_cone_is_too_wide():
+    """A cone too wide has no axis (zero): its node gets no arrow (it drew a zero-length blob)."""
+    app, F, frames = _fold_app()
+    try:
+        app.frame.value = 28
+        app.depth.value = 1
+        app.select_face(12)
+        node = [n for n in app.panel.content.split("node **")[1:2]][0].split("**")[0]
+        assert not np.any(app.col.cone_arrays()["axis"][int(node)])  # this node's cone is too wide
+        assert _node(app, "/selected/cone") is None and _node(app, "/selected/contour") is not None
+        app.depth.value = app.max_depth  # a leaf with a bounded cone: its arrow
+        app.select_face(12)
+        assert _node(app, "/selected/cone") is not None
+    finally:
+        app.close()
