@@ -63,7 +63,10 @@ def compare_path(method: str) -> str:
 
 
 def blueprint(front: bool = False, compare: tuple = (), cones: bool = True) -> rrb.Blueprint:
-    views = rrb.Spatial3DView(origin="/scene", name="mesh and culling")
+    # The cone axes start hidden (an eye toggle in the viewer): at every culled node, long arrows
+    # crowd out the mesh.
+    views = rrb.Spatial3DView(origin="/scene", name="mesh and culling",
+                              overrides={"/scene/cones": rrb.EntityBehavior(visible=False)})
     if front:
         views = rrb.Tabs(views, rrb.Spatial3DView(origin="/front", name="BVTT front on the mesh"))
     # One plot per kind of count: tests run in thousands, verdicts in tens, and on one axis the
@@ -157,9 +160,9 @@ def status_legend_markdown(depth: int | None) -> str:
         "log: yellow when its cone was too wide, else the colour of its contour test's reason.",
         "- **scene/contours/failed**: the boundary contour of each node whose contour test failed, in its reason's "
         "colour, with its kernel point and ray (none for cbc's edge-pair test, nor where sct found no kernel point).",
-        "- **scene/cones**: the axis of each node's cone that was bounded, the direction its contour test "
-        "projects along: dark green where the node was culled, else its reason's colour (a cone too wide has no "
-        "axis).",
+        "- **scene/cones** (hidden at first: its eye in the blueprint panel shows it): the axis of each node's "
+        "cone that was bounded, the direction its contour test projects along: dark green where the node was "
+        "culled, else its reason's colour (a cone too wide has no axis).",
         "- **scene/collisions** (DCD): one dark point per colliding pair, labelled (on hover) with the two triangles; "
         "**scene/contacts** (CCD): vertex-face points and edge-edge strips, labelled with a certified lower bound on "
         "the time of contact.",

@@ -157,6 +157,11 @@ class ViewerApp:
         with contextlib.redirect_stdout(io.StringIO()):  # viser's own address banner: `view` prints the URL
             self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.port = self.server.get_port()
+        # The scene's size, from the whole sequence: the camera's framing and the arrows' radii follow
+        # it (fixed radii were hairlines on a mesh in millimetres, and the camera started inside it).
+        lo, hi = self.frames.min(axis=(0, 1)), self.frames.max(axis=(0, 1))
+        self.center, self.scale = 0.5 * (lo + hi), max(float(np.linalg.norm(hi - lo)), 1e-12)
+        self.server.on_client_connect(self._frame_camera)
         gui = self.server.gui
         gui.add_markdown("**conecull** — why each region was culled or not")
         self.frame = gui.add_slider("frame", min=0, max=len(self.frames) - 1, step=1, initial_value=0)
@@ -282,7 +287,8 @@ class ViewerApp:
                 # the bounded cones' axes, culled nodes' included (a cone too wide has no axis)
                 arrows = np.stack([lay.axis_origins, lay.axis_origins + lay.axis_vectors], axis=1)
                 scene.add_arrows("/cones", arrows.reshape(-1, 2, 3), lay.axis_colors,
-                                 shaft_radius=0.002, head_radius=0.006, head_length=0.012, visible=bool(self.show_cones.value))
+                                 shaft_radius=0.0015 * self.scale, head_radius=0.0045 * self.scale,
+                                 head_length=0.009 * self.scale, visible=bool(self.show_cones.value))
                 # box_segments lists edge by edge over all boxes: the colours repeat per edge
                 scene.add_line_segments("/failed_nodes", box_segments(lay.box_lo, lay.box_hi),
                                         np.repeat(np.tile(lay.node_colors, (12, 1))[:, None], 2, axis=1), thickness=1.5,
@@ -295,6 +301,11 @@ class ViewerApp:
                 self.stats_md.content = note + self._stats_line(k, res.stats, since)
                 self._draw_selection()
             self.compare_md.content = self._compare_table(k, ccd) if self.compare.value else ""
+
+    def _frame_camera(self, client) -> None:
+        """A new browser tab looks at the whole sequence's box from outside it, whatever its units."""
+        client.camera.look_at = tuple(float(x) for x in self.center)
+        client.camera.position = tuple(float(x) for x in self.center + self.scale * np.array([0.8, -0.8, 0.6]))
 
     def _stats_line(self, k: int, s: dict, since: int) -> str:
         front = s["method"].endswith("+front")
@@ -427,7 +438,8 @@ class ViewerApp:
             c = 0.5 * (bvh["box"][node, 0] + bvh["box"][node, 1])
             size = float(np.linalg.norm(bvh["box"][node, 1] - bvh["box"][node, 0]))
             self._draw("add_arrows", "/selected/cone", np.array([[c, c + cones["axis"][node] * 0.6 * size]]),
-                       HIGHLIGHT, shaft_radius=0.004, head_radius=0.012, head_length=0.02)
+                       HIGHLIGHT, shaft_radius=0.003 * self.scale, head_radius=0.009 * self.scale,
+                       head_length=0.015 * self.scale)
 
     def _draw_triangles(self, partners: np.ndarray):
         """Outline the clicked triangle (HIGHLIGHT) and those it collides with (PARTNER)."""

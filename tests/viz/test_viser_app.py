@@ -444,3 +444,30 @@ def test_no_arrow_for_a_selected_node_whose_cone_is_too_wide():
         assert _node(app, "/selected/cone") is not None
     finally:
         app.close()
+
+
+def test_camera_and_arrows_follow_the_meshs_size():
+    """A mesh in millimetres: the camera starts outside its box, looking at its middle, and the
+    arrows' radii scale with it (fixed radii were hairlines, the camera started inside the mesh)."""
+    from types import SimpleNamespace
+
+    from conecull.datasets.inputs import load_sequence
+    from conecull.viz.viser_app import ViewerApp
+
+    F, frames = load_sequence("fold")
+    radii = {}
+    for scale in (1.0, 1000.0):
+        app = ViewerApp(F, frames * scale, port=free_port())
+        try:
+            client = SimpleNamespace(camera=SimpleNamespace())
+            app._frame_camera(client)
+            lo, hi = (frames * scale).min(axis=(0, 1)), (frames * scale).max(axis=(0, 1))
+            assert np.allclose(client.camera.look_at, 0.5 * (lo + hi))
+            pos = np.array(client.camera.position)
+            assert ((pos < lo) | (pos > hi)).any()  # outside the box
+            app.frame.value = 28
+            app.show_cones.value = True
+            radii[scale] = _node(app, "/cones")._impl.props.shaft_radius
+        finally:
+            app.close()
+    assert np.isclose(radii[1000.0], 1000.0 * radii[1.0])
