@@ -126,7 +126,8 @@ def main(argv: list[str] | None = None) -> int:
                                                "for trace and contour, which measure one thread); "
                                                "the threads suite compares 1 thread with this many (default 2)")
 
-    args = parser.parse_args(argv)
+    words = _glue_dash_values(list(sys.argv[1:] if argv is None else argv))
+    args = parser.parse_args(words)
     args.argv = list(sys.argv[1:] if argv is None else argv)[1:]
     try:
         with warnings.catch_warnings():  # the library's warnings (a mesh file's polygons split) as one line each
@@ -140,6 +141,19 @@ def main(argv: list[str] | None = None) -> int:
     except (ValueError, OSError, MemoryError) as e:  # OSError: a file that cannot be read or written
         print(f"conecull {args.command}: error: {_as_option(str(e))}", file=sys.stderr)
         return 2
+
+
+def _glue_dash_values(words: list) -> list:
+    """`--frames -3:` as `--frames=-3:`: argparse takes a value starting with '-' for an option and
+    says only "expected one argument"; glued, the value reaches our own check, which names what is
+    wrong with it (frames are counted from 0, not from the end)."""
+    out = []
+    for w in words:
+        if out and out[-1] == "--frames" and w.startswith("-") and w[1:2] != "-" and len(w) > 1:
+            out[-1] = f"--frames={w}"
+        else:
+            out.append(w)
+    return out
 
 
 INPUT_HELP = ("a scene name (see `conecull scenes`), a folder of OBJ/PLY frames with identical faces "

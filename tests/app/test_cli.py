@@ -468,3 +468,11 @@ def test_ccd_on_a_one_frame_input_is_refused(tmp_path, capsys):
     assert "--ccd: the input has one frame" in capsys.readouterr().err
     assert main(["check"] + args[:-1]) == 0
     assert "1 triangle, method nc: no collision" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv", [["check", "fold", "--frames", "-3:"], ["record", "fold", "--frames", "-1"]])
+def test_a_negative_frame_gets_our_message(argv, capsys):
+    """argparse took '-3:' for an option ("expected one argument"); our check says what is wrong."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "--frames: " in err and "counted from 0 (not from the end)" in err, err
