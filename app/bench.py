@@ -502,8 +502,9 @@ def run_first_hit_bench(n_triangles: int = 64000, n_frames: int = 8, repeats: in
     query once (a front method then starts from its own front); full and first-hit runs take
     turns; medians. Checked: the first hit is one of the full query's collisions, or there are none."""
     del n_frames  # single steps
-    real = [] if "steps" in check_skip("first-hit", skip) else shared_steps()
-    if not real and "steps" not in check_skip("first-hit", skip):  # said, as `bench ccd` says it
+    want_steps = "steps" not in check_skip("first-hit", skip)
+    real = shared_steps() if want_steps else []
+    if want_steps and not real:  # said, as `bench ccd` says it
         from conecull.datasets.shared import shared_data_missing
 
         print(f"{shared_data_missing()}: only the generated step is measured")

@@ -220,6 +220,16 @@ def _source_words(args) -> str:
     return "`" + words[0] + "`" + "".join(" " + w for w in words[1:])
 
 
+def _front_history(ccd: bool, since: int, k: int) -> str:
+    """Where `explain`'s front came from, after replaying `record --frames since:` up to query k."""
+    if k > since:
+        return (f"its front from replaying the queries of `record --frames {since}:` before this one: frame 0, "
+                f"then {'steps' if ccd else 'frames'} {since}..{k - 1}")
+    if ccd:
+        return f"its front built from the top: no earlier CCD query, as `record --frames {k}: --ccd` has it"
+    return f"its front from the query of frame 0, as `record --frames {k}:` has it"
+
+
 def _check(args) -> int:
     """`conecull check`: the first-hit queries (stop_at_first) per frame and, with --ccd, per step."""
     import conecull
@@ -455,12 +465,7 @@ def _run(args) -> int:
         else:
             res = col.dcd(frames[k], trace=True)
             head = f"frame {k}, method {args.method}"
-        what = "steps" if args.ccd else "frames"
-        head += (f" (its front from replaying the queries of `record --frames {since}:` before this one: frame 0, "
-                 f"then {what} {since}..{k - 1}):" if front and k > since else
-                 f" (its front from the query of frame 0, as `record --frames {k}:` has it):" if front and not args.ccd
-                 else " (its front built from the top: no earlier CCD query, as `record --frames "
-                 f"{k}: --ccd` has it):" if front else ":")
+        head += (f" ({_front_history(args.ccd, since, k)}):" if front else ":")
         if args.node is not None:
             text = explain_node(col, res, args.node, node_name="--node")
         elif args.face is not None:

@@ -33,7 +33,7 @@ import numpy as np
 
 import conecull
 from conecull._api import DEFAULT_LEAF_SIZE
-from conecull.app.bench import _disagree, _size_label, shared_steps
+from conecull.app.bench import _disagree, _same_answer, _size_label, shared_steps
 from conecull.app.targets import judge, print_targets
 from conecull.datasets.checks import memory_bytes
 
@@ -70,12 +70,6 @@ class _Tee(io.TextIOBase):
         self.out.flush()
 
 
-def _pairs_of(res):
-    if hasattr(res, "vf"):
-        return (res.vf.tobytes(), res.ee.tobytes())
-    return res.pairs.tobytes()
-
-
 def _colliders(F, frames, methods, threads, leaf_size=DEFAULT_LEAF_SIZE):
     """One collider per method on the mesh of `frames`, each having answered frame 0 (the BVH and
     contours are built from it)."""
@@ -100,8 +94,8 @@ def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed
                 ms[m][k].append(1e3 * (time.perf_counter() - t))
             stats[m][k] = {key: v for key, v in res.stats.items() if not isinstance(v, dict)}
             if ref is None:
-                ref = _pairs_of(res)
-            elif _pairs_of(res) != ref:
+                ref = res
+            elif not _same_answer(res, ref):
                 raise _disagree(suite, m, methods[0], f"at {'step' if ccd else 'frame'} {k} of the sequence "
                                 f"({len(frames[k])} vertices)")
 

@@ -55,7 +55,7 @@ def _span(texts):
 def _judged(named, ok, kind=X2, threshold=None, after=""):
     """For (name, value) pairs: the values' span, then `after`, then the failing ones named; and
     whether all pass. threshold: the value ok compares with (a function of the value if two)."""
-    at = (lambda v: threshold(v)) if callable(threshold) else (lambda v: threshold)  # noqa: E731
+    at = threshold if callable(threshold) else (lambda v: threshold)  # noqa: E731
     text = {n: _num(v, kind, at(v), ok(v)) for n, v in named}
     bad = [f"{n} {text[n]}" for n, v in named if not ok(v)]
     measured = _span([(v, text[n]) for n, v in named]) + after + (f" (not: {', '.join(bad)})" if bad else "")

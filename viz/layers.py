@@ -51,7 +51,6 @@ class FrameLayers:
     kernels: np.ndarray           # (c, 3) at the pose drawn (CCD: the end pose, so o at t = 1)
     rays: np.ndarray              # (c, 3) vectors, scaled to the node size
     cone_nodes: np.ndarray        # nodes not culled: cone too wide, contour failed, or ineligible
-    node_codes: np.ndarray        # per cone node: CONE_TOO_WIDE_CODE or its contour reason
     node_colors: np.ndarray       # (c, 3) uint8: yellow for a cone too wide, else REASON_COLORS
     node_labels: list             # per cone node: "node 17: not_star_shaped", as the log names it
     axis_nodes: np.ndarray        # nodes whose cone was bounded: culled, contour failed, or ineligible
@@ -64,6 +63,12 @@ class FrameLayers:
     culled_summary: str           # one sentence on the culled nodes ("" if none)
 
 
+def node_label(node: int, code: int) -> str:
+    """'node 17: not_star_shaped': a node and its verdict (CONE_TOO_WIDE_CODE or a contour reason),
+    as the recording's boxes and strips are labelled."""
+    return f"node {node}: {CONE_TOO_WIDE[0] if code == CONE_TOO_WIDE_CODE else reason_name(code)}"
+
+
 def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, edge: int = -1,
                   crossings: int = 0) -> str:
     head = f"node {node} (depth {depth}, {n_tris} triangles) was not culled "
@@ -72,18 +77,24 @@ def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, 
     return head + f"({reason_name(code)}): " + explain(code, edge, crossings) + "."
 
 
-def colliding_faces(col, res) -> np.ndarray:
-    """Faces to paint as colliding: both faces of each DCD pair; for CCD, the face of each VF
-    contact and the faces around its vertex, and the faces of both edges of each EE contact."""
+def colliding_triangles(col, res) -> np.ndarray:
+    """(k, 2) pairs of triangles that collide in a query of col: DCD, its pairs; CCD, for each
+    contact the triangles on either side (a vertex's contact with a face: each triangle around
+    the vertex with the face; an edge's with an edge: the triangles around each)."""
     if not hasattr(res, "vf"):
-        return res.pairs.ravel()
-    mesh = col.mesh
-    voff, vids = mesh.vertex_faces
-    eoff, eids = mesh.edge_faces
-    out = [res.vf[:, 1]]
-    out += [vids[voff[v] : voff[v + 1]] for v in res.vf[:, 0]]
-    out += [eids[eoff[e] : eoff[e + 1]] for e in res.ee.ravel()]
-    return np.unique(np.concatenate(out)) if out else np.zeros(0, np.int64)
+        return res.pairs
+    voff, vids = col.mesh.vertex_faces
+    eoff, eids = col.mesh.edge_faces
+    pairs = [(t, f) for v, f in res.vf.tolist() for t in vids[voff[v] : voff[v + 1]]]
+    pairs += [(u, t) for a, b in res.ee.tolist() for u in eids[eoff[a] : eoff[a + 1]] for t in eids[eoff[b] : eoff[b + 1]]]
+    return np.array(pairs, dtype=np.int64).reshape(-1, 2)
+
+
+def colliding_faces(col, res) -> np.ndarray:
+    """Faces to paint as colliding: those of colliding_triangles (DCD: both faces of each pair;
+    CCD: the face of each VF contact and the faces around its vertex, the faces of both edges of
+    each EE contact)."""
+    return np.unique(colliding_triangles(col, res))
 
 
 def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
@@ -144,8 +155,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
                                  tr.contour["reason"][ineligible]]).astype(np.int64)
     node_colors = np.array([STATUS_COLORS[CONE_FAILED] if c == CONE_TOO_WIDE_CODE else REASON_COLORS[int(c)]
                             for c in node_codes], np.uint8).reshape(-1, 3)
-    node_labels = [f"node {n}: {CONE_TOO_WIDE[0] if c == CONE_TOO_WIDE_CODE else reason_name(int(c))}"
-                   for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
+    node_labels = [node_label(n, c) for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
     tested = np.isin(tr.contour["node"], tr.cone["node"][tr.cone["bounded"]])
     axis_nodes = tr.contour["node"][tested].astype(np.int64)
     axis_codes = tr.contour["reason"][tested]
@@ -171,7 +181,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
         culled_strips=culled_strips, contour_nodes=cnodes, contour_strips=strips,
         contour_reasons=tr.contour["reason"][fail], kernels=kernels, rays=proj,
         cone_nodes=cone_nodes,
-        node_codes=node_codes, node_colors=node_colors, node_labels=node_labels, axis_nodes=axis_nodes,
+        node_colors=node_colors, node_labels=node_labels, axis_nodes=axis_nodes,
         axis_origins=(0.5 * (box[axis_nodes, 0] + box[axis_nodes, 1])).reshape(-1, 3),
         axis_vectors=np.array([axes_of[int(n)] * 0.5 * size[n] for n in axis_nodes]).reshape(-1, 3),
         axis_colors=axis_colors,
@@ -234,5 +244,5 @@ def reason_legend() -> list[tuple[str, tuple]]:
     return [(REASONS[c][0], REASON_COLORS[c]) for c in sorted(REASON_COLORS) if c in REASONS]
 
 
-__all__ = ["compute", "front_colors", "front_legend", "status_legend", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS",
-           "REASON_COLORS", "reason_name", "node_sentence"]
+__all__ = ["compute", "colliding_triangles", "front_colors", "front_legend", "status_legend", "FrameLayers", "STATUS_NAMES", "STATUS_COLORS",
+           "REASON_COLORS", "reason_name", "node_label", "node_sentence"]

@@ -224,8 +224,7 @@ class RerunRecorder:
                                                       colors=lay.node_colors, labels=lay.node_labels, show_labels=False,
                                                       fill_mode=rr.components.FillMode.MajorWireframe))
             colors = [L.REASON_COLORS[int(c)] for c in lay.contour_reasons]
-            labels = [f"node {n}: {L.reason_name(c)}" for n, c in zip(lay.contour_nodes.tolist(),
-                                                                        lay.contour_reasons.tolist())]
+            labels = [L.node_label(n, c) for n, c in zip(lay.contour_nodes.tolist(), lay.contour_reasons.tolist())]
             rec.log("/scene/contours/failed", rr.LineStrips3D(lay.contour_strips, colors=colors, labels=labels))
             if self.method != "cbc":  # its edge-pair test has no kernel point nor ray
                 has = np.isfinite(lay.kernels).all(axis=1)

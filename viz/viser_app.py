@@ -95,19 +95,6 @@ def legend_markdown(keys) -> str:
     return " · ".join(f"<span style='color:rgb{tuple(int(c) for c in rgb)}'>■</span> {name}" for name, rgb in keys)
 
 
-def colliding_triangles(col, res) -> np.ndarray:
-    """(k, 2) pairs of triangles that collide in a query of col: DCD, its pairs; CCD, for each
-    contact the triangles on either side (a vertex's contact with a face: each triangle around
-    the vertex with the face; an edge's with an edge: the triangles around each)."""
-    if not hasattr(res, "vf"):
-        return res.pairs
-    voff, vids = col.mesh.vertex_faces
-    eoff, eids = col.mesh.edge_faces
-    pairs = [(t, f) for v, f in res.vf.tolist() for t in vids[voff[v] : voff[v + 1]]]
-    pairs += [(u, t) for a, b in res.ee.tolist() for u in eids[eoff[a] : eoff[a + 1]] for t in eids[eoff[b] : eoff[b + 1]]]
-    return np.array(pairs, dtype=np.int64).reshape(-1, 2)
-
-
 def partners_of(pairs: np.ndarray, face: int) -> np.ndarray:
     """The triangles paired with `face` in (k, 2) pairs, sorted, without it."""
     mine = pairs[(pairs[:, 0] == face) | (pairs[:, 1] == face)]
@@ -264,7 +251,7 @@ class ViewerApp:
             res = col.ccd(self.frames[k], V, trace=True, toi=True) if ccd else col.dcd(V, trace=True)
             self.queried_at[m, kind] = k
             self.res, self.V = res, V
-            self.colliding = colliding_triangles(col, res)  # for the stats line and every click
+            self.colliding = L.colliding_triangles(col, res)  # for the stats line and every click
             lay = L.compute(col, self.faces, V, res)
             scene = self.server.scene
             with self.server.atomic():

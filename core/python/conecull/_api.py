@@ -375,7 +375,7 @@ class SelfCollider:
         """Per face, how many entries of the front (see front_arrays) have the face below one of
         their two BVH nodes: where on the mesh the front's work is."""
         self._check_front("front_load", kind)
-        fr = self.front_arrays(kind)
+        fr = self._core.front_arrays(kind == "ccd")
         bvh = self._core.bvh_arrays()
         n_faces = self.mesh.n_faces
         if not len(bvh["order"]):
