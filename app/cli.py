@@ -61,6 +61,9 @@ def main(argv: list[str] | None = None) -> int:
     what.add_argument("--node", type=int, help="a BVH node id, 0 the root (`conecull record` logs node ids)")
     what.add_argument("--face", type=int, help="a triangle id: the collisions it takes part in and why the region "
                                                "holding each was not culled (`check` and `record` print ids)")
+    what.add_argument("--cones", action="store_true",
+                      help="the nodes whose normal cone failed, each with whether its normals really span a "
+                           "hemisphere or only the merged cone bound is too wide (checked exactly)")
     what.add_argument("--pair", type=int, nargs=2, metavar=("I", "J"),
                       help="two triangle ids: do they collide, and the verdict of the smallest node holding both")
     p.add_argument("--method", choices=list(METHODS), default="nc", help=method_help)
@@ -427,7 +430,7 @@ def _run(args) -> int:
         import conecull
         from conecull.datasets.inputs import load_sequence
         from conecull.viz.checks import check_method
-        from conecull.viz.explain import explain_face, explain_node, explain_pair
+        from conecull.viz.explain import explain_cones, explain_face, explain_node, explain_pair
 
         check_method(args.method, args.ccd, "--method")
         if args.arithmetic != "exact" and not args.ccd:
@@ -470,6 +473,8 @@ def _run(args) -> int:
             text = explain_node(col, res, args.node, node_name="--node")
         elif args.face is not None:
             text = explain_face(col, res, args.face, name="--face")
+        elif args.cones:
+            text = explain_cones(col, res)
         else:
             text = explain_pair(col, res, *args.pair, names=("--pair", "--pair"))
         print(head + "\n" + text)

@@ -8,6 +8,7 @@ from decimal import ROUND_FLOOR, Decimal
 
 import numpy as np
 
+from conecull.normal_spread import Normals, node_spreads, normal_spread
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain
 from conecull.viz.checks import check_face, check_node
 
@@ -143,6 +144,9 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
         i = cone_i[0]
         if not tr.cone["bounded"][i]:
             lines.append("normal cone: the full cone (no bound below 180 degrees)")
+            tris = bvh["order"][bvh["begin"][node] : bvh["end"][node]]
+            spread = normal_spread(Normals(col.mesh.faces, *tr.positions), tris)
+            lines.append(f"normals: {spread.sentence(len(tr.positions) == 2)}")
             lines.append("verdict: not culled, cone_too_wide: " + CONE_TOO_WIDE[1] + ".")
             return "\n".join(lines)
         ang = float(np.degrees(tr.cone["apex_angle"][i]))
@@ -169,6 +173,32 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
         lines.append(f"verdict: not examined: method '{res.stats['method']}' uses no normal cones.")
     else:
         lines.append("verdict: not examined by normal cones in this query.")
+    return "\n".join(lines)
+
+
+def explain_cones(col, res, limit: int = 20) -> str:
+    """The nodes whose normal cone failed in a traced query (Alg. 2 line 5), counted by their
+    normals' spread (normal_spread), then the largest of them one per line (at most `limit`)."""
+    from conecull.viz.layers import cone_sentence
+
+    check_result(col, res)
+    tr = res.trace
+    bvh = col.bvh_arrays()
+    bad = tr.cone["node"][~tr.cone["bounded"]]
+    if res.stats.get("method") in NO_CONES:
+        return f"method '{res.stats['method']}' uses no normal cones: no cone test ran."
+    if not len(bad):
+        return "no normal cone failed in this query: every node tested had a cone bounded below 180 degrees."
+    ccd = len(tr.positions) == 2
+    spreads = node_spreads(Normals(col.mesh.faces, *tr.positions), bvh, bad)
+    size = bvh["end"] - bvh["begin"]
+    shown = sorted(spreads, key=lambda n: (-int(size[n]), n))[:limit]
+    lines = [cone_sentence(spreads, ccd) + "."]
+    for n in shown:
+        s = spreads[n]
+        lines.append(f"node {n} (depth {int(bvh['depth'][n])}, {int(size[n])} triangles): {s.sentence(ccd)}")
+    if len(spreads) > len(shown):
+        lines.append(f"(and {len(spreads) - len(shown)} more: `conecull record` logs every one)")
     return "\n".join(lines)
 
 

@@ -18,11 +18,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from conecull.normal_spread import Normals, Spread, node_spreads
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain, reason_name
 
 UNTESTED, CONE_FAILED, CONTOUR_FAILED, CULLED, COLLIDING = range(5)
 STATUS_NAMES = ("not examined", "cone too wide", "contour failed", "culled", "colliding")
 STATUS_COLORS = np.array([[190, 190, 190], [235, 195, 60], [240, 130, 40], [80, 175, 95], [215, 40, 40]], np.uint8)
+# A failed cone whose normals fit in an open hemisphere (normal_spread: "within"): the bound failed,
+# not the patch; a paler yellow than a cone whose normals really span a hemisphere.
+CONE_BOUND_COLOR = (250, 225, 140)
+SPREAD_WORDS = {"beyond": "normals span a hemisphere", "within": "normals within a hemisphere",
+                "undecided": "spread undecided"}
 CULLED_PALE = 0.5  # how far toward white the green of a culled face goes at the BVH's deepest level
 CULLED_CONTOUR_COLOR = (30, 110, 50)  # the culled nodes' outlines: a darker green than any culled face
 KERNEL_NOT_FOUND = next(c for c, (name, _) in REASONS.items() if name == "no_kernel_on_search_line")  # sct's
@@ -61,20 +67,40 @@ class FrameLayers:
     box_hi: np.ndarray            # (c, 3) and its upper one
     sentences: list               # one plain sentence per failing node: contour failures, then cones
     culled_summary: str           # one sentence on the culled nodes ("" if none)
+    cone_spreads: dict            # per node whose cone failed, its normals' Spread (normal_spread)
+    cone_summary: str             # one sentence on the failed cones' spreads ("" if none failed)
 
 
-def node_label(node: int, code: int) -> str:
+def node_label(node: int, code: int, spread: Spread | None = None) -> str:
     """'node 17: not_star_shaped': a node and its verdict (CONE_TOO_WIDE_CODE or a contour reason),
-    as the recording's boxes and strips are labelled."""
-    return f"node {node}: {CONE_TOO_WIDE[0] if code == CONE_TOO_WIDE_CODE else reason_name(code)}"
+    as the recording's boxes and strips are labelled; a failed cone's label says its spread."""
+    if code != CONE_TOO_WIDE_CODE:
+        return f"node {node}: {reason_name(code)}"
+    return f"node {node}: {CONE_TOO_WIDE[0]}" + (f", {SPREAD_WORDS[spread.kind]}" if spread is not None else "")
 
 
 def node_sentence(node: int, depth: int, n_tris: int, kind: str, code: int = 0, edge: int = -1,
-                  crossings: int = 0) -> str:
+                  crossings: int = 0, spread: Spread | None = None, ccd: bool = False) -> str:
     head = f"node {node} (depth {depth}, {n_tris} triangles) was not culled "
     if kind == "cone":
-        return head + f"({CONE_TOO_WIDE[0]}): " + CONE_TOO_WIDE[1] + "."
+        return head + f"({CONE_TOO_WIDE[0]}): " + CONE_TOO_WIDE[1] + (
+            f"; {spread.sentence(ccd)}." if spread is not None else ".")
     return head + f"({reason_name(code)}): " + explain(code, edge, crossings) + "."
+
+
+def cone_sentence(spreads: dict, ccd: bool = False) -> str:
+    """The failed cones of a query by their normals' spread, in one sentence ("" if none failed)."""
+    if not spreads:
+        return ""
+    kinds = [s.kind for s in spreads.values()]
+    n, within, undecided = len(kinds), kinds.count("within"), kinds.count("undecided")
+    nodes = "node" if n == 1 else "nodes"
+    normals = "the control vectors of their normals over the step" if ccd else "their normals"
+    text = (f"{n} {nodes} failed the normal cone test (Alg. 2 line 5): {n - within - undecided} have "
+            f"{normals} spanning a hemisphere or more, so no cone could pass; {within} have {normals} within "
+            "an open hemisphere, so the failure is the cone bound's (merged from the children's cones, "
+            "Sec. 3.6), not the patch's")
+    return text + (f"; {undecided} undecided" if undecided else "") + " (each checked exactly)"
 
 
 def colliding_triangles(col, res) -> np.ndarray:
@@ -153,9 +179,12 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     cone_nodes = np.concatenate([bad_cone, cnodes, tr.contour["node"][ineligible]]).astype(np.int64)
     node_codes = np.concatenate([np.full(len(bad_cone), CONE_TOO_WIDE_CODE), tr.contour["reason"][fail],
                                  tr.contour["reason"][ineligible]]).astype(np.int64)
-    node_colors = np.array([STATUS_COLORS[CONE_FAILED] if c == CONE_TOO_WIDE_CODE else REASON_COLORS[int(c)]
-                            for c in node_codes], np.uint8).reshape(-1, 3)
-    node_labels = [node_label(n, c) for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
+    ccd = hasattr(res, "vf")
+    spreads = node_spreads(Normals(faces, *tr.positions), bvh, bad_cone) if len(bad_cone) else {}
+    node_colors = np.array([REASON_COLORS[int(c)] if c != CONE_TOO_WIDE_CODE else CONE_BOUND_COLOR
+                            if spreads[n].kind == "within" else STATUS_COLORS[CONE_FAILED]
+                            for n, c in zip(cone_nodes.tolist(), node_codes.tolist())], np.uint8).reshape(-1, 3)
+    node_labels = [node_label(n, c, spreads.get(n)) for n, c in zip(cone_nodes.tolist(), node_codes.tolist())]
     tested = np.isin(tr.contour["node"], tr.cone["node"][tr.cone["bounded"]])
     axis_nodes = tr.contour["node"][tested].astype(np.int64)
     axis_codes = tr.contour["reason"][tested]
@@ -168,7 +197,8 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
             sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "contour",
                                            int(code), int(e), int(c)))
     for node in bad_cone:
-        sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone"))
+        sentences.append(node_sentence(int(node), int(depth[node]), int(end[node] - begin[node]), "cone",
+                                       spread=spreads[int(node)], ccd=ccd))
     kernels = tr.contour["kernel_end"][fail].copy()
     # No kernel point was tried (the trace's kernel and ray are fillers): cbc's edge-pair test has
     # none, and sct's line search may find none. NaN rows: the sinks draw only finite ones.
@@ -187,7 +217,8 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
         axis_colors=axis_colors,
         box_lo=box[cone_nodes, 0].reshape(-1, 3), box_hi=box[cone_nodes, 1].reshape(-1, 3),
         sentences=sentences,
-        culled_summary=culled_sentence(culled_nodes, depth, end - begin, m, hasattr(res, "vf")),
+        culled_summary=culled_sentence(culled_nodes, depth, end - begin, m, ccd),
+        cone_spreads=spreads, cone_summary=cone_sentence(spreads, ccd),
     )
 
 

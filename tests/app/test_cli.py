@@ -23,7 +23,36 @@ def test_explain_reports_reason(capsys):
     assert main(["explain", "fold", "--frame", "0", "--node", "0"]) == 0
     assert "verdict: culled, passed" in capsys.readouterr().out
     assert main(["explain", "fold", "--frame", "29", "--node", "0"]) == 0
-    assert "cone_too_wide" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "cone_too_wide" in out
+    # folded onto itself: the root's normals oppose, and three triangles witness it (normal_spread)
+    line = next(x for x in out.splitlines() if x.startswith("normals: "))
+    assert "span a hemisphere or more: those of triangles" in line and "checked exactly" in line
+
+
+def test_explain_cones_counts_the_failed_cones_by_spread(capsys):
+    """`explain --cones`: the failed cones of the query, by whether their normals span a
+    hemisphere (normal_spread), the largest nodes named; none at the flat first frame."""
+    import conecull
+    from conecull.datasets.inputs import load_sequence
+    from conecull.normal_spread import Normals, node_spreads
+
+    assert main(["explain", "fold", "--frame", "0", "--cones"]) == 0
+    assert "no normal cone failed" in capsys.readouterr().out
+    F, P = load_sequence("fold")
+    for k in (25, 29):
+        assert main(["explain", "fold", "--frame", str(k), "--cones"]) == 0
+        out = capsys.readouterr().out.splitlines()
+        col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]))
+        col.dcd(P[0])
+        tr = col.dcd(P[k], trace=True).trace
+        bad = tr.cone["node"][~tr.cone["bounded"]]
+        spreads = node_spreads(Normals(F, *tr.positions), col.bvh_arrays(), bad)
+        within = sum(s.kind == "within" for s in spreads.values())
+        assert out[1].startswith(f"{len(bad)} node") and f"; {within} have their normals within" in out[1], out[1]
+        assert out[2].startswith("node 0 (depth 0")  # the largest first
+    with pytest.raises(SystemExit):  # one question at a time
+        main(["explain", "fold", "--frame", "0", "--cones", "--node", "0"])
 
 
 def test_check_then_explain_a_collision(capsys):

@@ -12,6 +12,7 @@ from rerun.chunk import RrdReader
 from rrd_helpers import log_rows, rows_by_frame, rows_by_frame_static
 
 import conecull
+from conecull.normal_spread import Normals, node_spreads, normal_spread
 from conecull.datasets.inputs import load_sequence
 from conecull.viz.rerun_sink import record
 
@@ -381,6 +382,7 @@ def test_culled_patches_and_failed_nodes_are_drawn(tmp_path):
     strips = rows_by_frame(path, "/scene/culled", "LineStrips3D:strips")
     boxes = rows_by_frame(path, "/scene/failed_nodes", "Boxes3D:labels")
     arrows = rows_by_frame(path, "/scene/cones", "Arrows3D:vectors")
+    log = log_rows(path)
     col = conecull.SelfCollider(conecull.Mesh(F, n_vertices=P.shape[1]))
     col.dcd(P[0])
     ct, bvh = col.contour_arrays(), col.bvh_arrays()
@@ -397,7 +399,23 @@ def test_culled_patches_and_failed_nodes_are_drawn(tmp_path):
         bad_cones = tr.cone["node"][~tr.cone["bounded"]].tolist()
         failed = [f"node {n}: {reason_name(r)}" for n, r in zip(tr.contour["node"].tolist(), tr.contour["reason"].tolist())
                   if r != 0]
-        assert sorted(boxes.get(k) or []) == sorted([f"node {n}: cone_too_wide" for n in bad_cones] + failed), k
+        # a failed cone's label says whether its normals fit in a hemisphere (normal_spread)
+        normals = Normals(F, *tr.positions)
+        cones = [f"node {n}: cone_too_wide, {L.SPREAD_WORDS[normal_spread(normals, bvh['order'][bvh['begin'][n] : bvh['end'][n]]).kind]}"
+                 for n in bad_cones]
+        assert sorted(boxes.get(k) or []) == sorted(cones + failed), k
+        # the log: the failed cones counted by spread, and each one's sentence says its own
+        spreads = node_spreads(normals, bvh, bad_cones)  # the witnesses the recording names
+        kinds = [spreads[n] for n in bad_cones]
+        assert [sp.kind for sp in kinds] == [normal_spread(normals, bvh["order"][bvh["begin"][n] : bvh["end"][n]]).kind
+                                             for n in bad_cones]
+        lines = [t for _, t in log.get(k, [])]
+        if bad_cones:
+            within = sum(sp.kind == "within" for sp in kinds)
+            assert any(t.startswith(f"{len(bad_cones)} node") and f"; {within} have their normals within" in t
+                       for t in lines), (k, lines)
+        for n, sp in zip(bad_cones, kinds):
+            assert any(t.startswith(f"node {n} (") and sp.sentence() in t for t in lines), (k, n)
         assert len(boxes.get(k) or []) == s["cone_tests"] - s["cone_passed"] + s["contour_failed"] + s["contour_ineligible"]
         n_boxes += len(boxes.get(k) or [])
         vecs = np.asarray(arrows.get(k) or np.zeros((0, 3)), float).reshape(-1, 3)

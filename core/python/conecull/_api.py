@@ -316,7 +316,8 @@ class SelfCollider:
         t = _as_threads(threads)
         a = _as_positions(V, self.mesh.n_vertices)
         pairs, stats, raw = self._core.dcd(a, bool(trace), t, bool(stop_at_first))
-        return DcdResult(pairs=pairs, stats=stats, trace=Trace(raw) if raw is not None else None,
+        tr = Trace(raw, positions=(a.copy(),)) if raw is not None else None
+        return DcdResult(pairs=pairs, stats=stats, trace=tr,
                          collider=weakref.ref(self))
 
     def ccd(self, V0, V1, arithmetic: str = "exact", trace: bool = False, toi: bool = False,
@@ -343,7 +344,8 @@ class SelfCollider:
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
         vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t, bool(stop_at_first))
-        return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=Trace(raw) if raw is not None else None,
+        tr = Trace(raw, positions=(a0.copy(), a1.copy())) if raw is not None else None
+        return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=tr,
                          collider=weakref.ref(self))
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).

@@ -143,7 +143,10 @@ def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False,
 class Trace:
     """Events of one traced query: `trace.cone["axis"]`, `trace.contour["reason"]`, ..."""
 
-    def __init__(self, raw: dict):
+    def __init__(self, raw: dict, positions: tuple = ()):
+        # The query's positions, copied: (V,) for DCD, (V0, V1) for CCD; what the events were
+        # computed from (normal_spread reads them to say why a cone failed).
+        self.positions = positions
         self.cone = {f.name: raw["cone_" + f.name] for f in EVENT_KINDS["cone"].fields}
         self.contour = {f.name: raw["contour_" + f.name] for f in EVENT_KINDS["contour"].fields}
         self.level = {"pairs": raw["level_pairs"], "overlaps": raw["level_overlaps"]}
