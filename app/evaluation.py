@@ -190,14 +190,13 @@ def run_front(args) -> int:
     exact CCD query over the last TIMED_FRAMES), counters only, so no timing and no repeats; and
     on each scene's last frame, the front no cone test could cull (app/front_bound.py); JSON
     front.json."""
-    from conecull.app.front_bound import front_bound, scipy_linprog
+    from conecull.app.front_bound import front_bound
     from conecull.datasets import load
 
     scenes = _scenes_of(args)
     threads = args.threads or 1
     leaf = args.leaf_size or DEFAULT_LEAF_SIZE
     rows = []
-    linprog = scipy_linprog()
     for name in scenes:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
@@ -207,7 +206,7 @@ def run_front(args) -> int:
         _, _, ccd = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
                                   threads=threads, leaf_size=leaf, suite="front")
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
-                     "bound": front_bound(F, window[0], window[-1], linprog, leaf_size=leaf) if linprog else None})
+                     "bound": front_bound(F, window[0], window[-1], leaf_size=leaf)})
     print(f"(BVH leaves of at most {leaf} triangles)")
     print()
     _fig11_table(rows)
@@ -232,10 +231,6 @@ def _bound_table(rows):
           "contour or not (the best any normal-cone test can do), each as a share of `aabb+front`'s front "
           "(app/front_bound.py).")
     print()
-    if any(r["bound"] is None for r in rows):
-        print("(not computed: it needs scipy, which the `bench` extra brings: pip install 'conecull[bench]')")
-        print()
-        return
     print("| scene | aabb+front entries | ours: entries (nodes) | ours: ratio | bound: entries (nodes) | bound: ratio |")
     print("|---|---|---|---|---|---|")
     for r in rows:

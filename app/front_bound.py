@@ -9,11 +9,10 @@ reaches. `front_bound` walks the BVH from the root as Alg. 4 would with an ideal
 node whose normals lie in an open hemisphere is culled, contour or not; the others keep the
 sub-segment that `aabb+front` keeps for them (the same BVTT cut of Collide(L, R)).
 
-Whether unit normals n_i lie in an open hemisphere is a linear program: maximise t subject to
-n_i . v >= t and |v_k| <= 1; they do iff t > 0. It is solved in floating point (scipy's
-`linprog`, HiGHS) for a report, not certified like the culling predicates (see LP_T_MIN); a node
-whose cone ours bounded needs no solve (certified), and the mean normal is tried as a witness
-first.
+Whether the normals lie in an open hemisphere is conecull.normal_spread's question, answered
+with a witness checked exactly (until 2026-11-28 a floating-point linear program, scipy's
+`linprog`). A node whose cone ours bounded needs no search (certified). A node the search leaves
+undecided counts as culled, so the bound stays a lower bound.
 """
 
 from __future__ import annotations
@@ -21,41 +20,10 @@ from __future__ import annotations
 import numpy as np
 
 from conecull._api import DEFAULT_LEAF_SIZE
+from conecull.normal_spread import Normals, normal_spread
 
 
-def scipy_linprog():
-    """scipy.optimize.linprog, or None (scipy comes with the `bench` extra, through ipctk)."""
-    try:
-        from scipy.optimize import linprog
-    except ImportError:
-        return None
-    return linprog
-
-
-# At or below this optimum t the normals count as not in an open hemisphere. The solver works to
-# tolerances of about 1e-7, so only a node whose normals come within that of spanning a closed
-# hemisphere (some nearly exactly opposite) may be judged either way; any other verdict stands.
-LP_T_MIN = 1e-9
-
-
-def in_open_hemisphere(normals: np.ndarray, linprog=None, *, witness: bool = True) -> bool:
-    """True if some v has n . v > 0 for every row n of `normals` (unit vectors, (k, 3)).
-    witness=False skips the mean-normal shortcut, so the linear program decides (tests)."""
-    n = np.asarray(normals, dtype=np.float64)
-    if len(n) == 0:
-        return True
-    if witness and (n @ n.sum(axis=0) > 0).all():  # the mean normal is a witness: no solve
-        return True
-    linprog = linprog or scipy_linprog()
-    if linprog is None:
-        raise ImportError("front_bound needs scipy (pip install 'conecull[bench]')")
-    # Variables (v_x, v_y, v_z, t): minimise -t subject to t - n . v <= 0, -1 <= v_k <= 1, t <= 1.
-    res = linprog(np.array([0.0, 0.0, 0.0, -1.0]), A_ub=np.c_[-n, np.ones(len(n))], b_ub=np.zeros(len(n)),
-                  bounds=[(-1.0, 1.0)] * 3 + [(None, 1.0)], method="highs")
-    return bool(res.status == 0 and -res.fun > LP_T_MIN)
-
-
-def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = DEFAULT_LEAF_SIZE) -> dict:
+def front_bound(F, V_build, V, *, leaf_size: int = DEFAULT_LEAF_SIZE) -> dict:
     """On pose V, the BVH built at V_build: per culling rule, the front entries kept (the
     sub-segments of `aabb+front` for the internal nodes that the traversal reaches and does not
     cull), and the share of all of `aabb+front`'s entries that is. "ours": a node is culled where
@@ -91,10 +59,7 @@ def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = DEFAULT_LEAF_SI
     contour = traced.trace.contour
     culled_by_ours[np.asarray(contour["node"])[np.asarray(contour["reason"]) == 0]] = True
     bounded = nc.cone_arrays()["cos_bound"] > 0  # certified: normals in an open hemisphere
-    T = V[F]
-    normals = np.cross(T[:, 1] - T[:, 0], T[:, 2] - T[:, 0])
-    length = np.linalg.norm(normals, axis=1)
-    unit = normals / np.where(length > 0, length, 1.0)[:, None]  # a zero-area triangle: 0, no constraint
+    normals = Normals(F, V)
 
     def walk(culled) -> tuple[int, int]:
         entries, nodes, stack = 0, 0, [0] if len(left) else []
@@ -108,10 +73,7 @@ def front_bound(F, V_build, V, linprog=None, *, leaf_size: int = DEFAULT_LEAF_SI
         return entries, nodes
 
     def hemisphere(x) -> bool:
-        if bounded[x]:
-            return True
-        n = unit[order[begin[x]:end[x]]]
-        return in_open_hemisphere(n[np.any(n != 0, axis=1)], linprog)
+        return bool(bounded[x]) or normal_spread(normals, order[begin[x]:end[x]]).kind != "beyond"
 
     ours, ours_nodes = walk(lambda x: culled_by_ours[x])
     bound, bound_nodes = walk(hemisphere)

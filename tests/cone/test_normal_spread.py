@@ -17,6 +17,7 @@ import conecull
 import exact_twin as ex
 from conecull.normal_spread import CONTROL_NAMES, Normals, node_spreads, normal_spread
 from meshgen_basic import random_meshes, wavy_sheet
+from shared_data import import_or_skip
 
 
 def exact_row(F, V0, V1, t, control):
@@ -136,8 +137,9 @@ def test_the_answer_turns_on_a_sign_2_to_the_minus_40_away(sign):
 def test_random_normal_sets_match_a_linear_program_and_a_convex_hull():
     # clearly within: max t s.t. n_i . l >= t, l in [-1, 1]^3 (scipy's LP) is above 1e-6;
     # clearly beyond: the origin is inside the normals' convex hull (qhull), 1e-6 from every facet
-    linprog = pytest.importorskip("scipy.optimize").linprog
-    ConvexHull = pytest.importorskip("scipy.spatial").ConvexHull
+    why = "the float twins of this test (pip install 'conecull[test]')"
+    linprog = import_or_skip("scipy.optimize", why).linprog
+    ConvexHull = import_or_skip("scipy.spatial", why).ConvexHull
     rng = np.random.default_rng(7)
     decided = {"within": 0, "beyond": 0}
     for trial in range(150):
