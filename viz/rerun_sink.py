@@ -157,7 +157,10 @@ def status_legend_markdown(depth: int | None) -> str:
         "### Other layers",
         "- **scene/culled**: the boundary contour of each culled node (dark green): the culled patches.",
         "- **scene/failed_nodes**: the box of each node that was not culled, labelled `node N: reason` as in the "
-        "log: yellow when its cone was too wide, else the colour of its contour test's reason.",
+        f"log: yellow when its cone was too wide and its normals span a hemisphere or more (no cone could pass), "
+        f"pale yellow rgb{L.CONE_BOUND_COLOR} when its normals fit in an open hemisphere (only the cone merged from "
+        "its children's was too wide; conecull.normal_spread, checked exactly), else the colour of its contour "
+        "test's reason.",
         "- **scene/contours/failed**: the boundary contour of each node whose contour test failed, in its reason's "
         "colour, with its kernel point and ray (none for cbc's edge-pair test, nor where sct found no kernel point).",
         "- **scene/cones** (hidden at first: its eye in the blueprint panel shows it): the axis of each node's "
