@@ -142,18 +142,24 @@ def main(argv: list[str] | None = None) -> int:
         os.dup2(devnull, sys.stdout.fileno())  # Python's own flush at exit would fail again
         return 1
     except (ValueError, OSError, MemoryError) as e:  # OSError: a file that cannot be read or written
-        print(f"conecull {args.command}: error: {_as_option(str(e))}", file=sys.stderr)
+        why = str(e) or ("out of memory" if isinstance(e, MemoryError) else type(e).__name__)  # a bare MemoryError
+        print(f"conecull {args.command}: error: {_as_option(why)}", file=sys.stderr)
         return 2
+
+
+# Options taking one value that may start with '-' by mistake (a negative count or frame).
+VALUE_OPTIONS = {"--frames", "--frame", "--since", "--node", "--face", "--depth", "--resolution", "--sizes",
+                 "--threads", "--repeats", "--triangles", "--leaf-size", "--ipctk-candidates", "--port"}
 
 
 def _glue_dash_values(words: list) -> list:
     """`--frames -3:` as `--frames=-3:`: argparse takes a value starting with '-' for an option and
     says only "expected one argument"; glued, the value reaches our own check, which names what is
-    wrong with it (frames are counted from 0, not from the end)."""
+    wrong with it (frames are counted from 0, not from the end; --sizes -5,10: each size >= 8)."""
     out = []
     for w in words:
-        if out and out[-1] == "--frames" and w.startswith("-") and w[1:2] != "-" and len(w) > 1:
-            out[-1] = f"--frames={w}"
+        if out and out[-1] in VALUE_OPTIONS and w.startswith("-") and w[1:2] != "-" and len(w) > 1:
+            out[-1] = f"{out[-1]}={w}"
         else:
             out.append(w)
     return out
@@ -199,7 +205,7 @@ def _explain_command(args, what: str, since: int = 0) -> str:
 
     from conecull.datasets.inputs import DEFAULT_SCENE
 
-    words = ["conecull", "explain", args.input or DEFAULT_SCENE]
+    words = ["conecull", "explain", (DEFAULT_SCENE if args.input is None else args.input)]
     if args.positions:
         words += ["--positions", args.positions]
     if args.resolution is not None:
@@ -215,7 +221,7 @@ def _source_words(args) -> str:
     """The input as the command line named it, for a recording's /about page."""
     from conecull.datasets.inputs import DEFAULT_SCENE
 
-    words = [args.input or f"{DEFAULT_SCENE} (the default scene)"]
+    words = [f"{DEFAULT_SCENE} (the default scene)" if args.input is None else args.input]
     if args.positions:
         words.append(f"with positions {args.positions}")
     if args.resolution is not None:
@@ -244,10 +250,13 @@ def _check(args) -> int:
         raise ValueError(f"--method: {args.method!r} is a discrete (DCD) method; --ccd needs one of {conecull.CCD_METHODS}")
     if args.arithmetic != "exact" and not args.ccd:
         raise ValueError("--arithmetic: only with --ccd (a DCD query has no arithmetic mode)")
-    F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
+    F, frames = load_sequence((DEFAULT_SCENE if args.input is None else args.input), args.positions, args.resolution)
     if args.ccd and len(frames) < 2:
         raise ValueError("--ccd: the input has one frame, so no step from a frame to the next to check")
     rng = parse_frames(args.frames, len(frames))
+    if args.ccd and len(rng) < 2:  # else "no collision in the frames and steps checked", with no step checked
+        raise ValueError(f"--ccd: --frames {args.frames} selects one frame, so no step from a frame to the next "
+                         f"within it (steps k -> k + 1 need A:B with B >= A + 2)")
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
     col = conecull.SelfCollider(mesh, method=args.method)
     if rng[0] != 0:  # the BVH from frame 0, as `record` and `explain` build it: the same first pair found
@@ -396,7 +405,7 @@ def _run(args) -> int:
             compare = [m.strip() for m in args.compare.split(",")]
             check_compare(compare, args.ccd, "--compare")
         _check_out_file(args.out)
-        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
+        F, frames = load_sequence((DEFAULT_SCENE if args.input is None else args.input), args.positions, args.resolution)
         rng = parse_frames(args.frames, len(frames))
         stats = record(args.out, F, frames, method=args.method, frame_range=rng, bvh_depth=args.depth,
                        progress=(lambda d, t: _progress(d, t, "steps" if args.ccd else "frames"))
@@ -423,7 +432,7 @@ def _run(args) -> int:
         if args.ccd and args.method not in conecull.CCD_METHODS:
             raise ValueError(f"--method: {args.method!r} is a discrete (DCD) method; --ccd needs one of "
                              f"{conecull.CCD_METHODS}")
-        F, frames = load_sequence(args.input or DEFAULT_SCENE, args.positions, args.resolution)
+        F, frames = load_sequence((DEFAULT_SCENE if args.input is None else args.input), args.positions, args.resolution)
         serve_forever(ViewerApp(F, frames, host=args.host, port=args.port, method=args.method, ccd=args.ccd))
         return 0
     if args.command == "explain":

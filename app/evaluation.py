@@ -332,9 +332,10 @@ def render_from_json(path: str, out: str) -> int:
         rows = results.get(key)
         if rows is not None and not (isinstance(rows, list) and all(isinstance(r, dict) for r in rows)):
             raise ValueError(f"{not_paper} (its '{key}' is not a list of rows)")
-    # The rows' own fields are the tables' (many, nested): a row that lacks or mistypes one is not
-    # from a paper.json, whichever it is. The tables are rendered into a buffer first, so a bad
-    # file prints nothing but the error; the plots read the same fields.
+    # The rows' own fields are the tables' and the plots' (many, nested): a row that lacks or
+    # mistypes one is not from a paper.json, whichever it is. The tables are rendered into a
+    # buffer and printed after the plots, so a bad file prints nothing but the error (the plots
+    # read fields the tables do not: scaling's, a KeyError traceback before).
     tables = io.StringIO()
     try:
         with contextlib.redirect_stdout(tables):
@@ -345,11 +346,11 @@ def render_from_json(path: str, out: str) -> int:
             if results.get("steps"):
                 _fig10_tables(results["steps"], "scene")
             print_targets(judge(results))
+        os.makedirs(out, exist_ok=True)
+        plots = _plots(results, out)
     except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError) as e:
         raise ValueError(f"{not_paper} (a row lacks or mistypes {e})") from None
     print(tables.getvalue(), end="")
-    os.makedirs(out, exist_ok=True)
-    plots = _plots(results, out)
     print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'} in {out}")
     return 0
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numbers
 import os
+import stat
 
 import numpy as np
 
@@ -64,6 +65,19 @@ def fits_in_memory(name: str, n_bytes: float, what: str) -> None:
                          f"{mem / 2**30:.3g} GiB of memory")
 
 
+def regular_file(name: str, path: str) -> None:
+    """Before reading a file: a regular one. A FIFO blocks the reader until something writes to
+    it, and a device such as /dev/zero never ends (a bad-input probe hung on both)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError as e:
+        raise ValueError(f"{name}: cannot read '{path}' ({e.strerror or e})") from None
+    if not stat.S_ISREG(mode):
+        kind = "a FIFO" if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else \
+            "a socket" if stat.S_ISSOCK(mode) else "a folder" if stat.S_ISDIR(mode) else "not a regular file"
+        raise ValueError(f"{name}: '{path}' is {kind}, not a regular file")
+
+
 def writable_file(name: str, path, example: str = "run.rrd") -> str:
     """A file path that can be written: checked before the work whose result goes there."""
     if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
@@ -75,6 +89,8 @@ def writable_file(name: str, path, example: str = "run.rrd") -> str:
     if not os.path.isdir(parent):
         raise ValueError(f"{name}: folder '{parent}' does not exist")
     existed = os.path.exists(path)
+    if existed and (stat.S_ISFIFO(os.stat(path).st_mode) or stat.S_ISSOCK(os.stat(path).st_mode)):
+        raise ValueError(f"{name}: '{path}' is a FIFO or a socket, not a file (opening it would wait for a reader)")
     try:  # really open it: permissions, read-only or special file systems (/proc) all show here
         with open(path, "ab"):
             pass

@@ -126,6 +126,7 @@ def load_sequence(source: str, positions: str | None = None, resolution: int | N
     if not positions.lower().endswith((".npz", ".npy")):
         raise ValueError(f"positions: '{positions}' is not an .npz or .npy file (the frames of a mesh file go in "
                          "a folder of frames instead)")
+    checks.regular_file("positions", positions)
     try:
         loaded = np.load(positions, allow_pickle=False)
         if isinstance(loaded, np.ndarray):  # an .npy: the array itself
@@ -169,17 +170,21 @@ def _warn_polygons(mesh, name: str) -> None:
 def parse_frames(spec: str | None, n_frames: int) -> range:
     """'A:B' (B exclusive, either side optional) or 'K' -> a range of frame indices, each in
     [0, n_frames): no negative (from the end) indices and no silent clamping to the input."""
-    if not spec:
+    if spec is None or spec == "":
         return range(n_frames)
-    try:
-        if ":" in spec:
-            a, b = spec.split(":", 1)
-            start, stop = int(a) if a.strip() else 0, int(b) if b.strip() else n_frames
-        else:
-            start = int(spec)
-            stop = start + 1
-    except ValueError:
-        raise ValueError(f"--frames: expected A:B or K, got '{spec}'") from None
+    if not isinstance(spec, str):
+        raise ValueError(f"--frames: expected a string A:B or K, got {type(spec).__name__}")
+    # ASCII digits only (int() would take '1_0' as 10, ' 1 ', and other scripts' digits); a sign
+    # reaches the check below.
+    m = re.fullmatch(r"(-?[0-9]+)?:(-?[0-9]+)?|(-?[0-9]+)", spec)
+    if m is None:
+        raise ValueError(f"--frames: expected A:B or K, got '{spec}'")
+    a, b, k = m.groups()
+    if k is not None:
+        start = int(k)
+        stop = start + 1
+    else:
+        start, stop = int(a) if a else 0, int(b) if b else n_frames
     have = f"the input has {n_frames} frame{'s' if n_frames != 1 else ''} (0..{n_frames - 1})"
     if start < 0 or stop < 0:
         raise ValueError(f"--frames: '{spec}': frames are counted from 0 (not from the end); {have}")

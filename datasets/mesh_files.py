@@ -16,6 +16,7 @@ only: the file's own vertices and faces are taken from them).
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 
@@ -150,6 +151,7 @@ def _obj_statements(text: bytes):
 
 def _read_bytes(path: str) -> bytes:
     """The file's bytes, a UTF-8 byte order mark dropped (it is not part of the first word)."""
+    checks.regular_file("INPUT", path)
     try:
         with open(path, "rb") as fh:
             text = fh.read()
@@ -338,10 +340,19 @@ def _binary_corners(data):
 def _ply_mesh(path: str, V, faces) -> MeshFile:
     if V is None or faces is None:
         raise ValueError(f"{path}: no triangles in this file")
-    faces = [[int(c) for c in f] for f in faces] if not isinstance(faces, list) else faces
 
     def where(k):
         return f"{path}: face {k} (counted from 0)"
+
+    faces = list(faces)
+    for k, f in enumerate(faces):  # a list of whole numbers each: a float id was truncated before
+        if not isinstance(f, (list, tuple, np.ndarray)):
+            raise ValueError(f"{where(k)}: its vertex_indices is one number ({f!r}), not a list of vertex ids "
+                             "(the header must declare 'property list <count type> <index type> vertex_indices')")
+        for c in f:
+            if not isinstance(c, (int, np.integer)) and not (math.isfinite(c) and float(c).is_integer()):
+                raise ValueError(f"{where(k)}: vertex id {c!r} is not a whole number")
+        faces[k] = [int(c) for c in f]
 
     F, fans = _triangles(faces, where, len(V))
     return MeshFile(F, V, fans, where)

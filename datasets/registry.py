@@ -15,6 +15,7 @@ import json
 import os
 import tempfile
 import zipfile
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
@@ -22,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from conecull.datasets import cloth, generated, skirt, squishy
-from conecull.datasets.checks import count, fits_in_memory
+from conecull.datasets.checks import _first_out_of_range, count, fits_in_memory
 
 CACHE_VERSION = 1
 
@@ -166,7 +167,7 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
         raise ValueError(f"{source}: '{folder}' is not a folder")
     path = folder / f"{name}-{_key(scene, resolution, frames)}.npz"
     if path.exists():
-        return _read_cached(path, frames)
+        return _read_cached(path, frames, scene.triangles(resolution))
     _check_writable(folder)
     try:
         n_triangles = scene.triangles(resolution)
@@ -211,9 +212,10 @@ def _check_writable(folder: Path) -> None:
         raise ValueError(f"{source}: cannot write scenes to '{folder}' ({e.strerror or e})") from None
 
 
-def _read_cached(path: Path, frames: int):
-    """A cached scene, checked as a generated one is before it is written (shapes, ids, finite
-    positions): a damaged or foreign file is an error naming it, never a sequence handed out."""
+def _read_cached(path: Path, frames: int, n_triangles: int):
+    """A cached scene, checked as a generated one is before it is written (shapes, the scene's
+    triangle count, ids, distinct corners, positions a query takes): a damaged or foreign file is
+    an error naming it, never a sequence handed out."""
     def damaged(why: str):
         return ValueError(f"cache: '{path}' is damaged or not a scene cache ({why}); delete it, and the next "
                           "load generates the scene again")
@@ -221,8 +223,10 @@ def _read_cached(path: Path, frames: int):
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in ("faces", "positions") if k in z.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:  # truncated, empty, not an npz, pickled
-        raise damaged(str(e) or type(e).__name__) from None
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as e:  # truncated, empty, not an npz,
+        raise damaged(str(e) or type(e).__name__) from None  # pickled, a broken deflate stream
+    except MemoryError:  # a damaged header claiming a huge array
+        raise damaged("an array larger than this machine's memory") from None
     for k in ("faces", "positions"):
         if k not in arrays:
             raise damaged(f"no array '{k}'")
@@ -231,10 +235,16 @@ def _read_cached(path: Path, frames: int):
         raise damaged(f"faces {F.dtype} {F.shape}, expected int64 (m, 3)")
     if P.dtype != np.float64 or P.ndim != 3 or P.shape[0] != frames or P.shape[2] != 3:
         raise damaged(f"positions {P.dtype} {P.shape}, expected float64 ({frames}, n, 3)")
+    if len(F) != n_triangles:
+        raise damaged(f"{len(F)} triangles, the scene has {n_triangles}")
     if F.size and (F.min() < 0 or F.max() >= P.shape[1]):
         raise damaged(f"face ids outside [0, {P.shape[1]})")
+    if (F[:, [0, 1, 2]] == F[:, [1, 2, 0]]).any():
+        raise damaged("a triangle repeats a vertex")
     if not np.isfinite(P).all():
         raise damaged("a non-finite position")
+    if (why := _first_out_of_range(P)) is not None:
+        raise damaged(why)
     return F, P
 
 

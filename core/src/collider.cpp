@@ -355,7 +355,11 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
         const int32_t* E = topo_->edges.data();
         const int64_t n_vf = static_cast<int64_t>(res.vf.size());
         res.toi.resize(res.vf.size() + res.ee.size());
+        // Each bound is a search over the step (hundreds of exact tests where the pair stays
+        // close): a look at the interrupt flag before each one (a step with every pair in
+        // contact ran 70 s past Ctrl-C without it).
         parallel_for(static_cast<int64_t>(res.toi.size()), query_threads_, 16, [&](int64_t i) {
+            if (interrupt_requested(interrupt_)) return;
             if (i < n_vf) {
                 const auto [v, f] = res.vf[i];
                 const int32_t* t = F + 3 * static_cast<size_t>(f);
@@ -368,6 +372,7 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
                                                        load(V1, b), load(V1, c), load(V1, d));
             }
         });
+        if (interrupt_requested(interrupt_)) throw Interrupted{};
     }
     return res;
 }

@@ -9,6 +9,7 @@ import trimesh
 
 from conecull.app.cli import main
 from conecull.datasets.generated import folding_sheet
+from shared_data import import_or_skip
 
 
 def test_record_default_scene_and_frames(tmp_path, capsys):
@@ -362,8 +363,13 @@ def test_bench_out_that_is_a_file(tmp_path, capsys):
     ('{}', "is not the paper.json of a `bench all` run (it has no 'machine' entry)"),  # was a "not measured" table
     ('{"scenes": []}', "is not the paper.json of a `bench all` run (it has no 'machine' entry)"),
     ('[1, 2]', "is not the paper.json of a `bench all` run"),
+    # rows only the plots read (a KeyError, a ZeroDivisionError traceback before)
+    ('{"machine": {}, "scaling": [{"triangles": 1000}]}', "a row lacks or mistypes 'dcd_nc_ms'"),
+    ('{"machine": {}, "scaling": [{"triangles": 0, "dcd_nc_ms": 1.0, "ccd_nc_ms": 1.0}]}', "a row lacks or mistypes"),
 ])
 def test_bench_from_json_names_a_file_that_is_no_paper_json(tmp_path, content, msg, capsys):
+    if content and "scaling" in content:  # only the plots read those rows
+        import_or_skip("matplotlib", "the bench's plots (pip install 'conecull[bench]')")
     path = tmp_path / "paper.json"
     if content is None:
         path.mkdir()
@@ -505,3 +511,31 @@ def test_a_negative_frame_gets_our_message(argv, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert "--frames: " in err and "counted from 0 (not from the end)" in err, err
+
+
+def test_an_empty_input_is_not_the_default_scene(capsys, tmp_path):
+    """`check ''` ran the default scene (an empty INPUT read as none given)."""
+    for argv in (["check", ""], ["record", "", "--out", str(tmp_path / "r.rrd")]):
+        assert main(argv) == 2
+        assert "INPUT: '' is neither a scene" in capsys.readouterr().err
+
+
+def test_a_fifo_as_out_is_refused(capsys, tmp_path):
+    """Opening a FIFO to check that it can be written waits for a reader: `record` hung."""
+    os.mkfifo(tmp_path / "out.rrd")
+    assert main(["record", "--out", str(tmp_path / "out.rrd"), "--frames", "0:2"]) == 2
+    assert "--out: '" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["check", "fold", "--ccd", "--frames", "2"], "--ccd: --frames 2 selects one frame, so no step"),  # said "no collision"
+    (["check", "fold", "--frames", "1_0"], "--frames: expected A:B or K, got '1_0'"),  # read as frame 10
+    (["check", "fold", "--frames", " 1 "], "--frames: expected A:B or K, got ' 1 '"),
+    (["bench", "all", "--sizes", "-5,10"], "--sizes: expected triangle counts >= 8, got '-5,10'"),  # argparse's words
+    (["explain", "fold", "--frame", "3", "--node", "-2"], "--node: -2 is out of range"),
+])
+def test_more_bad_options_are_named(argv, msg, capsys):
+    """From a bad-input probe: each was a wrong answer or argparse's 'expected one argument'."""
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert msg in err and "Traceback" not in err, err

@@ -266,3 +266,46 @@ def test_non_convex_polygons_are_refused(tmp_path):
     (d / "f1.obj").write_text(concave)
     with pytest.raises(ValueError, match=r"f0\.obj: line 5 .*: this face .* is not convex in frame 'f1\.obj'"):
         load_sequence(str(d))
+
+
+def test_special_files_are_refused_not_read(tmp_path):
+    """A FIFO blocks its reader until something writes to it, and /dev/zero never ends: both hung
+    `conecull check` (a bad-input probe). Refused by kind, before opening; as --positions too."""
+    import os
+
+    fifo = tmp_path / "f.obj"
+    os.mkfifo(fifo)
+    with pytest.raises(ValueError, match=r"INPUT: '.*f\.obj' is a FIFO, not a regular file"):
+        load_sequence(str(fifo))
+    (tmp_path / "zero.obj").symlink_to("/dev/zero")
+    with pytest.raises(ValueError, match=r"INPUT: '.*zero\.obj' is a device, not a regular file"):
+        load_sequence(str(tmp_path / "zero.obj"))
+    (tmp_path / "m.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    os.mkfifo(tmp_path / "p.npz")
+    with pytest.raises(ValueError, match=r"positions: '.*p\.npz' is a FIFO, not a regular file"):
+        load_sequence(str(tmp_path / "m.obj"), positions=str(tmp_path / "p.npz"))
+    seq = tmp_path / "seq"
+    seq.mkdir()
+    (seq / "0.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    os.mkfifo(seq / "1.obj")  # a frame of a folder
+    with pytest.raises(ValueError, match=r"INPUT: '.*1\.obj' is a FIFO"):
+        load_sequence(str(seq))
+
+
+@pytest.mark.parametrize("faces,match", [
+    # a scalar where the face list belongs: a TypeError traceback before
+    ("property int vertex_indices", "its vertex_indices is one number"),
+    # float ids were truncated (3.99 read as vertex 3: a face the file does not have)
+    ("property list uchar float vertex_indices", "vertex id 3.99 is not a whole number"),
+])
+def test_ply_face_ids_must_be_lists_of_whole_numbers(tmp_path, faces, match):
+    head = ("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+            f"element face 1\n{faces}\nend_header\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n")
+    body = "0\n" if "int vertex_indices" in faces and "list" not in faces else "3 0 1 3.99\n"
+    (tmp_path / "f.ply").write_text(head + body)
+    with pytest.raises(ValueError, match=r"f\.ply: face 0 \(counted from 0\): " + match):
+        load_sequence(str(tmp_path / "f.ply"))
+    if "float" in faces:  # whole numbers in a float list are ids
+        (tmp_path / "g.ply").write_text(head + "3 0 1 3.0\n")
+        F, _ = load_sequence(str(tmp_path / "g.ply"))
+        assert F.tolist() == [[0, 1, 3]]

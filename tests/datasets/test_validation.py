@@ -258,26 +258,44 @@ def test_a_face_beyond_a_files_vertices_is_named(tmp_path):
         load_sequence(str(tmp_path / "bad.ply"))
 
 
+def _corrupt_deflate(p, F, P):
+    np.savez_compressed(p, faces=F, positions=P)
+    b = bytearray(p.read_bytes())
+    b[len(b) // 2 : len(b) // 2 + 64] = bytes(64)  # inside the compressed positions
+    p.write_bytes(bytes(b))
+
+
+def _replaced(faces=None, positions=None):
+    def damage(p, F, P):
+        np.savez(p, faces=F if faces is None else faces(F), positions=P if positions is None else positions(P))
+    return damage
+
+
 @pytest.mark.parametrize("damage,why", [
-    (lambda p: p.write_bytes(p.read_bytes()[:100]), ""),
-    (lambda p: p.write_bytes(b""), ""),
-    (lambda p: np.savez(p, faces=np.zeros((1, 3), np.int64)), "no array 'positions'"),
-    (lambda p: np.savez(p, faces=np.array([[0, 1, 2]]), positions=np.full((30, 3, 3), np.nan)),
-     "a non-finite position"),
-    (lambda p: np.savez(p, faces=np.array([[0, 1, 9]]), positions=np.zeros((30, 3, 3))), r"face ids outside \[0, 3\)"),
-    (lambda p: np.savez(p, faces=np.array([[0, 1, 2]]), positions=np.zeros((2, 3, 3))), r"positions float64 \(2, 3, 3\)"),
+    (lambda p, F, P: p.write_bytes(p.read_bytes()[:100]), ""),
+    (lambda p, F, P: p.write_bytes(b""), ""),
+    (_corrupt_deflate, ""),
+    (lambda p, F, P: np.savez(p, faces=F), "no array 'positions'"),
+    (_replaced(positions=lambda P: np.full_like(P, np.nan)), "a non-finite position"),
+    (_replaced(positions=lambda P: np.full_like(P, 1e300)), r"coordinate 1e\+300 in frame 0 .* outside the supported range"),
+    (_replaced(faces=lambda F: np.where(F == 0, 10**6, F)), r"face ids outside \[0, \d+\)"),
+    (_replaced(faces=lambda F: np.column_stack([F[:, 0], F[:, 0], F[:, 2]])), "a triangle repeats a vertex"),
+    (_replaced(faces=lambda F: F[:1]), r"1 triangles, the scene has \d+"),
+    (_replaced(faces=lambda F: F[:0], positions=lambda P: P[:, :0]), r"0 triangles, the scene has \d+"),
+    (_replaced(positions=lambda P: P[:2]), r"positions float64 \(2, \d+, 3\)"),
 ])
 def test_a_damaged_cache_file_is_named(cache, damage, why):
     """A cached scene is checked when read, as it was before it was written: a damaged file is a
-    ValueError naming it (and saying to delete it), never a sequence handed out."""
-    datasets.load("fold", resolution=4)
+    ValueError naming it (and saying to delete it), never a sequence handed out (an empty scene
+    was, and `check` then found "no collision")."""
+    F, P = datasets.load("fold", resolution=4)
     (path,) = cache.glob("fold-*.npz")
-    damage(path)
+    damage(path, F, P)
     with pytest.raises(ValueError, match=rf"cache: '.*fold-.*\.npz' is damaged or not a scene cache \({why}.*delete it"):
         datasets.load("fold", resolution=4)
     path.unlink()  # as the message says: the next load generates it again
-    F, P = datasets.load("fold", resolution=4)
-    assert np.isfinite(P).all() and len(F)
+    F2, P2 = datasets.load("fold", resolution=4)
+    assert np.array_equal(F2, F) and np.array_equal(P2, P)
 
 
 def test_a_cache_path_that_is_a_file(tmp_path, monkeypatch):

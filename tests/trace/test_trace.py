@@ -60,12 +60,20 @@ def test_trace_aabb_has_no_cone_events():
     assert len(res.trace.elementary["pair"]) == res.stats["elementary_tests"]
 
 
-@pytest.mark.parametrize("code", [99, -1, "x", None, 1.5e300])
+@pytest.mark.parametrize("code", [99, -1, "x", None, 1.5e300, 1.5, np.float64(2.0)])
 def test_unknown_verdict_codes_are_named(code):
+    # a float is no code, even a whole one (1.5 was read as code 1)
     with pytest.raises(ValueError, match=r"code: expected a contour verdict code in \[0, 1, "):
         explain(code)
     with pytest.raises(ValueError, match=r"code: expected a contour verdict code"):
         reason_name(code)
+
+
+def test_explain_names_a_bad_edge_or_crossing_count():
+    assert explain(np.int8(2), edge=np.int64(3)) == explain(2, edge=3)  # numpy integers are integers
+    for kw in ({"edge": "x"}, {"crossings": 1.5}):
+        with pytest.raises(ValueError, match=rf"{next(iter(kw))}: expected an integer, got"):
+            explain(2, **kw)
 
 
 @pytest.mark.parametrize("method", ["nc+front", "aabb+front"])

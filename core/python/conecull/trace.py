@@ -8,6 +8,7 @@ Later kinds (CCD steps, BVTT front changes: `front`) extend `EVENT_KINDS`; exist
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
 
 import numpy as np
@@ -114,8 +115,8 @@ CONE_TOO_WIDE = ("cone_too_wide", "its normal cone could not be bounded below 18
 def _reason(code) -> tuple:
     """REASONS[code], or a ValueError naming `code` (a contour event's reason is one of them)."""
     try:
-        return REASONS[int(code)]
-    except (KeyError, TypeError, ValueError, OverflowError):
+        return REASONS[operator.index(code)]  # integers only: int(1.5) read code 1.5 as 1
+    except (KeyError, TypeError):
         raise ValueError(f"code: expected a contour verdict code in {sorted(REASONS)}, got {code!r}") from None
 
 
@@ -135,9 +136,15 @@ def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False,
     """The sentence for a contour verdict. simple: passed by the simplicity test; star_tried: Alg. 1
     failed before it (the event's kernel point is finite)."""
     sentence = _reason(code)[1]
-    if int(code) == 0 and simple:
+    if operator.index(code) == 0 and simple:
         return (PASSED_SIMPLE_AFTER_STAR if star_tried else PASSED_SIMPLE)[1]
-    return sentence.format(edge=int(edge), crossings=int(crossings))
+    named = {}
+    for name, value in (("edge", edge), ("crossings", crossings)):
+        try:
+            named[name] = operator.index(value)
+        except TypeError:
+            raise ValueError(f"{name}: expected an integer, got {value!r}") from None
+    return sentence.format(**named)
 
 
 class Trace:
