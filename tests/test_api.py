@@ -724,3 +724,14 @@ def test_the_packages_parts_load_on_first_use():
             "assert conecull.trace.REASONS and conecull.viz.__name__ == 'conecull.viz'")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0, out.stderr
+
+
+def test_a_mesh_is_not_rebuilt_in_place():
+    """Mesh.__init__ again on a mesh a collider uses (a probe did) swapped the topology under it:
+    front_load then raised an IndexError. Refused; a mesh never changes."""
+    m = conecull.Mesh([[0, 1, 2], [3, 4, 5], [6, 7, 8]])
+    col = conecull.SelfCollider(m, method="nc+front")
+    col.dcd(np.random.default_rng(0).random((9, 3)))
+    with pytest.raises(TypeError, match="Mesh: already built"):
+        m.__init__([[0, 1, 2]])
+    assert m.n_faces == 3 and len(col.front_load()) == 3

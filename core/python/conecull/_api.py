@@ -109,6 +109,8 @@ class Mesh:
     """
 
     def __init__(self, faces, n_vertices: int | None = None):
+        if hasattr(self, "_topo"):  # colliders hold this topology: rebuilding it under them broke front_load
+            raise TypeError("Mesh: already built; a mesh never changes, make a new Mesh instead")
         f = _as_faces(faces)
         needed = int(f.max()) + 1 if f.size else 0
         if n_vertices is None:
