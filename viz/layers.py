@@ -97,10 +97,11 @@ def cone_sentence(spreads: dict, ccd: bool = False) -> str:
     nodes = "node" if n == 1 else "nodes"
     normals = "the control vectors of their normals over the step" if ccd else "their normals"
     text = (f"{n} {nodes} failed the normal cone test (Alg. 2 line 5): {n - within - undecided} have "
-            f"{normals} spanning a hemisphere or more, so no cone could pass; {within} have {normals} within "
-            "an open hemisphere, so the failure is the cone bound's (merged from the children's cones, "
-            "Sec. 3.6), not the patch's")
-    return text + (f"; {undecided} undecided" if undecided else "") + " (each checked exactly)"
+            f"{normals} spanning a hemisphere or more, so no cone {'over them ' if ccd else ''}could pass; "
+            f"{within} have {normals} within an open hemisphere, so the failure is the cone bound's (merged from "
+            "the children's cones, Sec. 3.6, and widened for rounding), not the patch's (each answer checked "
+            "exactly)")
+    return text + (f"; {undecided} undecided (no witness held exactly)" if undecided else "")
 
 
 def colliding_triangles(col, res) -> np.ndarray:

@@ -15,7 +15,7 @@ import pytest
 
 import conecull
 import exact_twin as ex
-from conecull.normal_spread import CONTROL_NAMES, Normals, node_spreads, normal_spread
+from conecull.normal_spread import CONTROL_NAMES, Normals, exact_dot_signs, node_spreads, normal_spread
 from meshgen_basic import random_meshes, wavy_sheet
 from shared_data import import_or_skip
 
@@ -237,3 +237,58 @@ def test_no_triangles_is_an_error():
     F, V = tri_mesh([with_normal((0, 0, 1))])
     with pytest.raises(ValueError, match="tris"):
         normal_spread(Normals(F, V), [])
+
+
+def test_the_filter_decides_subnormal_products_exactly():
+    """From a review: one triangle with coordinates near 2^-127 and an axis l = (1, l1, l2) whose
+    two products with its normal round to +2 and -1 units of 2^-1074 while their exact sum is
+    negative; the relative bound rounded to 0, and +2^-1074 passed as a proven positive sign."""
+    import math
+
+    U = Fr(2) ** -1074
+    rng = np.random.default_rng(0)
+    F = np.array([[0, 1, 2]])
+    made = 0
+    while made < 20:
+        s = 2.0**-127
+        u0, w1, w2 = (float(x) * s for x in rng.uniform(1, 2, 3))
+        m4, m3 = u0 * w1, u0 * w2
+        if not (Fr(m4) > Fr(u0) * Fr(w1) and Fr(m3) <= Fr(u0) * Fr(w2)):
+            continue
+        l2 = float(Fr(3, 2) * U / Fr(m4))  # l2 m4 just above 1.5 units: rounds to 2
+        while Fr(l2) * Fr(m4) <= Fr(3, 2) * U:
+            l2 = math.nextafter(l2, math.inf)
+        l1 = float(Fr(3, 2) * U / Fr(m3))  # l1 m3 just below 1.5 units: rounds to 1
+        while Fr(l1) * Fr(m3) >= Fr(3, 2) * U:
+            l1 = math.nextafter(l1, 0)
+        l = np.array([1.0, l1, l2])
+        V = np.array([[0, 0, 0], [u0, 0, 0], [0.5, w1, w2]], np.float64)
+        got = int(exact_dot_signs(l, Normals(F, V), np.array([0]))[0])
+        e = ex.dot(ex.fr3(l), exact_row(F, V, None, 0, 0))
+        assert got == (e > 0) - (e < 0), (V, l)
+        made += 1
+
+
+def test_a_normal_that_rounds_to_zero_still_takes_part():
+    """Its rounded cross product cancels to 0 while the exact one points along -z: it was left out
+    of the search ("undecided" for the triangle alone)."""
+    V = np.array([[2.0**58, 0, 0], [2, 1, 0], [7, 1, 0]])  # exact normal (0, 0, -5) times 2^58
+    F = np.array([[0, 1, 2]])
+    assert not np.cross(V[1] - V[0], V[2] - V[0]).any()
+    assert check_spread(spread_of(F, V), F, [0], V) == "within"
+    V2 = np.vstack([V, [[0, 0, 1], [1, 0, 1], [0, 1, 1]]])  # and with a triangle facing +z: beyond
+    F2 = np.array([[0, 1, 2], [3, 4, 5]])
+    assert check_spread(spread_of(F2, V2), F2, [0, 1], V2) == "beyond"
+
+
+def test_ccd_a_zero_middle_control_vector_is_not_a_zero_area():
+    # n(t) = ((1-t)^2 + t^2) (0, 0, 1) never vanishes, but 2 n1 = 0: no cone over the control
+    # vectors (what CCD cones bound) passes, and the sentence says so, not "zero area"
+    F = np.array([[0, 1, 2]])
+    V0 = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float)
+    V1 = np.array([[0, 0, 0], [1, 1, 0], [-2, -1, 0]], float)
+    sp = spread_of(F, V0, V1)
+    assert check_spread(sp, F, [0], V0, V1) == "beyond" and sp.witness == ((0, 2),)
+    words = sp.sentence(ccd=True)
+    assert "control vector 2 n1 of triangle 0 is zero" in words and "zero area" not in words
+    assert "what a CCD cone bounds" in words

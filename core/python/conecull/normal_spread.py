@@ -31,6 +31,7 @@ EPS = 2.0**-53
 # within 7 eps of the sum of the absolute products (Shewchuk's orient3d bound, as det_sum.hpp);
 # twice that covers a sum of two such determinants (CCD's 2 n1) and the rounding of the bound.
 FILTER = 16.0 * EPS
+TINY = 2.0**-960  # far above the rounding errors of subnormal products, far below any normal-range value
 CONTROL_NAMES = ("n0", "n2", "2 n1")  # the CCD rows' control vectors, in normal_rows' order
 
 
@@ -45,21 +46,25 @@ class Spread:
     def sentence(self, ccd: bool = False) -> str:
         """In words, for logs and `conecull explain` (after 'its normal cone could not be bounded ...')."""
         what = "the control vectors of its normals over the step" if ccd else "its triangles' normals"
+        # CCD cones bound the control vectors (ccd_cone.hpp), not n(t) itself, which may fit where they do not
+        no_cone = ("so no cone holding the control vectors, which is what a CCD cone bounds, is below 180 degrees"
+                   if ccd else "so no cone, however tight, holds them below 180 degrees")
         if self.kind == "beyond":
             if len(self.witness) == 1:
                 t, c = self.witness[0]
-                part = f"control vector {CONTROL_NAMES[c]} of triangle {t}" if ccd else f"triangle {t}"
-                return (f"{what} span a hemisphere or more: {part} has no normal (zero area), so no cone, however "
-                        f"tight, holds them below 180 degrees")
+                part = (f"triangle {t} has zero area at the {'start' if c == 0 else 'end'} of the step" if ccd and c < 2
+                        else f"control vector 2 n1 of triangle {t} is zero" if ccd else
+                        f"triangle {t} has no normal (zero area)")
+                return f"{what} span a hemisphere or more: {part}, {no_cone}"
             names = ", ".join(f"{t} ({CONTROL_NAMES[c]})" if ccd else str(t) for t, c in self.witness)
             return (f"{what} span a hemisphere or more: those of triangles {names} point in opposing directions "
-                    f"(their convex hull holds the origin, checked exactly), so no cone, however tight, holds them "
-                    f"below 180 degrees")
+                    f"(their convex hull holds the origin, checked exactly), {no_cone}")
         if self.kind == "within":
             ax = np.round(self.axis / np.linalg.norm(self.axis), 3).tolist()
             return (f"{what} fit in an open hemisphere (a cone of about {self.half_angle:.1f} degrees of half-angle "
-                    f"about {ax} holds them, checked exactly): the cone merged from its children's (Sec. 3.6) is "
-                    f"looser than they are, and a tighter one would have let the contour test run")
+                    f"about {ax} holds them, checked exactly): the node's cone bound, merged from its children's "
+                    f"(Sec. 3.6) and widened for rounding (a sliver whose normal cannot be resolved has a full "
+                    f"cone), is looser than they are; a cone this tight would have passed the cone test")
         return (f"whether {what} fit in a hemisphere was not decided (the floating-point search found no witness "
                 f"that held exactly)")
 
@@ -87,6 +92,7 @@ class Normals:
                           (np.concatenate([z, z, u1]), np.concatenate([z, z, w0]))]
         self.rounded = sum(np.cross(u, w) for u, w in self.terms)
         self.length = np.linalg.norm(self.rounded, axis=1)
+        self._exact = {}
         with np.errstate(invalid="ignore", divide="ignore"):
             self.unit = self.rounded / self.length[:, None]
 
@@ -99,7 +105,19 @@ class Normals:
         return int(r % self.m), int(r // self.m)
 
     def exact(self, r: int) -> tuple:
-        return _exact_row(self.faces, self.V0, self.V1, *self.row_id(r))
+        """Row r exactly (scaled, in integers; _exact_row), computed once (the refinement rounds and
+        the nodes above ask again)."""
+        row = self._exact.get(r)
+        if row is None:
+            row = self._exact[r] = _exact_row(self.faces, self.V0, self.V1, *self.row_id(r))
+        return row
+
+    def direction(self, r: int) -> np.ndarray:
+        """Row r's direction in floats from its exact value (for a row whose rounded value is 0)."""
+        x = self.exact(r)
+        big = max(abs(v) for v in x)
+        d = np.array([v / big for v in x]) if big else np.zeros(3)
+        return d / np.linalg.norm(d) if big else d
 
 
 def _exact_row(faces, V0, V1, t: int, control: int) -> tuple:
@@ -149,7 +167,10 @@ def exact_dot_signs(l: np.ndarray, normals: Normals, rows: np.ndarray) -> np.nda
         value += l[0] * (m[0] - m[1]) + l[1] * (m[2] - m[3]) + l[2] * (m[4] - m[5])
         perm += (abs(l[0]) * (np.abs(m[0]) + np.abs(m[1])) + abs(l[1]) * (np.abs(m[2]) + np.abs(m[3]))
                  + abs(l[2]) * (np.abs(m[4]) + np.abs(m[5])))
-    bound = FILTER * perm
+    # Products in the subnormal range carry absolute errors the relative bound misses: values
+    # that small are decided exactly (a review: l with components 2^-821 and coordinates near
+    # 2^-127 gave +2^-1074 for a negative value).
+    bound = FILTER * perm + TINY
     signs = np.where(value > bound, 1, np.where(-value > bound, -1, 0)).astype(np.int8)
     li = _int_scaled(l)
     for i in np.flatnonzero(signs == 0):  # borderline (or exactly zero): decide exactly
@@ -251,14 +272,16 @@ def normal_spread(normals: Normals, tris) -> Spread:
     if len(tris) == 0:
         raise ValueError("tris: expected at least one triangle")
     all_rows = normals.rows(tris)
-    length = normals.length[all_rows]
-    for r in all_rows[~(length > 0)]:  # a rounded zero: exactly zero (no normal) unless tiny
+    zero = all_rows[~(normals.length[all_rows] > 0)]
+    for r in zero:  # a rounded zero: exactly zero (no normal), unless the rounding cancelled it
         if not any(normals.exact(int(r))):
             return Spread("beyond", witness=(normals.row_id(int(r)),))
-    rows = all_rows[length > 0]
-    if not len(rows):
-        return Spread("undecided")
+    rows = all_rows
     P = normals.unit[rows]
+    if len(zero):  # such rows search with their exact directions (they were left out: "undecided")
+        P = P.copy()
+        for i in np.flatnonzero(~(normals.length[all_rows] > 0)):
+            P[i] = normals.direction(int(rows[i]))
     x, S = min_norm_point(P)
     d = P @ x
     if float(x @ x) > 0 and (d > 0).all():
@@ -280,8 +303,8 @@ def normal_spread(normals: Normals, tris) -> Spread:
         signs = exact_dot_signs(l, normals, all_rows)
         if (signs > 0).all():
             return _within(l, P @ l)
-        bad = all_rows[signs <= 0]
-        new = [int(r) for r in bad[np.argsort(normals.unit[bad] @ l)] if int(r) not in T][:4]
+        bad = np.flatnonzero(signs <= 0)  # positions in rows (and in P)
+        new = [int(rows[i]) for i in bad[np.argsort(P[bad] @ l)] if int(rows[i]) not in T][:4]
         if not new:
             break  # the rounded axis fails on its own support's rows: undecided
         T = [T[i] for i in U] + new
