@@ -255,8 +255,9 @@ def _check(args) -> int:
         raise ValueError("--ccd: the input has one frame, so no step from a frame to the next to check")
     rng = parse_frames(args.frames, len(frames))
     if args.ccd and len(rng) < 2:  # else "no collision in the frames and steps checked", with no step checked
-        raise ValueError(f"--ccd: --frames {args.frames} selects one frame, so no step from a frame to the next "
-                         f"within it (steps k -> k + 1 need A:B with B >= A + 2)")
+        raise ValueError(f"--ccd: --frames {args.frames} selects one frame, and `check` checks the steps k -> k + 1 "
+                         f"with both frames inside --frames (A:B with B >= A + 2; `record --ccd` counts a step from "
+                         f"each frame of its range instead)")
     mesh = conecull.Mesh(F, n_vertices=frames.shape[1])
     col = conecull.SelfCollider(mesh, method=args.method)
     if rng[0] != 0:  # the BVH from frame 0, as `record` and `explain` build it: the same first pair found

@@ -85,13 +85,20 @@ def tight_cone_gain(F, V_build, V) -> dict:
 
 
 def main(argv=None) -> int:
-    from conecull.app.bench import shared_steps
+    from conecull.datasets.shared import load_scalable_step, scalable_ccd_steps, shared_data_dir
 
     names = list(sys.argv[1:] if argv is None else argv)
-    steps = [s for s in shared_steps() if not names or s[0] in names]
-    if not steps:
-        print("no shared steps (../shared/data/scalable-ccd) matched" + (f": {', '.join(names)}" if names else ""))
-        return 1
+    data = shared_data_dir()
+    if data is None:
+        print("tight_cones: error: no shared steps (../shared/data/scalable-ccd is absent)", file=sys.stderr)
+        return 2
+    listed = scalable_ccd_steps(data)
+    known = [scene for scene, _ in listed]
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        print(f"tight_cones: error: STEP: unknown step {unknown[0]!r}; known: {', '.join(known)}", file=sys.stderr)
+        return 2
+    steps = [(scene, *load_scalable_step(data, scene, step)) for scene, step in listed if not names or scene in names]
     print("| step | failed cones | within a hemisphere | would pass | box tests: nc -> tight | "
           "elementary tests: nc -> tight |")
     print("|---|---|---|---|---|---|")
@@ -99,7 +106,7 @@ def main(argv=None) -> int:
         g = tight_cone_gain(F, V0, V1)
         print(f"| {name} | {g['failed_cones']} | {g['within']} (median {g['within_median_triangles']:g} triangles) | "
               f"{g['would_pass']} | {g['bv_tests']} -> {g['tight_bv_tests']} "
-              f"({g['tight_bv_tests'] / g['bv_tests'] - 1:+.1%}) | {g['elementary_tests']} -> "
+              f"({g['tight_bv_tests'] / max(g['bv_tests'], 1) - 1:+.1%}) | {g['elementary_tests']} -> "
               f"{g['tight_elementary_tests']} ({g['tight_elementary_tests'] / max(g['elementary_tests'], 1) - 1:+.1%}) |")
     print("(DCD at each step's end pose, the BVH built at its start, nc, leaf 2; 'would pass': the contour test "
           "passes about the exact witness axis)")

@@ -141,7 +141,7 @@ def _first_non_finite(a: np.ndarray) -> str:
         f"frame {idx[0]} has a non-finite coordinate {a[idx]} at {where}"
 
 
-def _first_out_of_range(a: np.ndarray, of: str = "") -> str | None:
+def first_out_of_range(a: np.ndarray, of: str = "") -> str | None:
     """The first coordinate the queries refuse (_api.RANGE_RULE), said here so that a file's
     coordinate is refused with the file named."""
     from conecull._api import RANGE_RULE, _outside_range
@@ -161,7 +161,7 @@ def points(name: str, value) -> np.ndarray:
         raise ValueError(f"{name}: expected an array of shape (n, 3), got {a.shape}")
     if not np.isfinite(a).all():
         raise ValueError(f"{name}: {_first_non_finite(a)}")
-    if (why := _first_out_of_range(a)) is not None:
+    if (why := first_out_of_range(a)) is not None:
         raise ValueError(f"{name}: {why}")
     return a
 
@@ -185,6 +185,6 @@ def frames(name: str, value, n_vertices: int | None = None, source: str | None =
         raise ValueError(f"{name}: frames have no vertices{of} (shape {a.shape})")
     if not np.isfinite(a).all():
         raise ValueError(f"{name}: {_first_non_finite(a)}{of}")
-    if (why := _first_out_of_range(a, of)) is not None:
+    if (why := first_out_of_range(a, of)) is not None:
         raise ValueError(f"{name}: {why}")
     return a

@@ -333,7 +333,7 @@ def _binary_corners(data):
         return None
     count, corners = lists["f0"], lists["f1"].reshape(len(lists), -1)
     if (count == corners.shape[1]).all():
-        return corners.tolist()
+        return corners  # an array: _ply_mesh checks it at once
     return [list(c[:k]) for c, k in zip(corners.tolist(), count)]
 
 
@@ -344,15 +344,24 @@ def _ply_mesh(path: str, V, faces) -> MeshFile:
     def where(k):
         return f"{path}: face {k} (counted from 0)"
 
-    faces = list(faces)
-    for k, f in enumerate(faces):  # a list of whole numbers each: a float id was truncated before
-        if not isinstance(f, (list, tuple, np.ndarray)):
-            raise ValueError(f"{where(k)}: its vertex_indices is one number ({f!r}), not a list of vertex ids "
-                             "(the header must declare 'property list <count type> <index type> vertex_indices')")
-        for c in f:
-            if not isinstance(c, (int, np.integer)) and not (math.isfinite(c) and float(c).is_integer()):
-                raise ValueError(f"{where(k)}: vertex id {c!r} is not a whole number")
-        faces[k] = [int(c) for c in f]
-
+    if isinstance(faces, np.ndarray):  # a binary file's faces of one corner count, checked at once
+        if faces.dtype.kind == "f":
+            bad = ~(np.isfinite(faces) & (faces == np.floor(faces)))
+            if bad.any():
+                k, i = (int(x) for x in np.argwhere(bad)[0])
+                raise ValueError(f"{where(k)}: vertex id {float(faces[k, i])!r} is not a whole number")
+        faces = faces.tolist()  # Python numbers: ids beyond int64 reach _triangles' own message
+        if faces and isinstance(faces[0][0], float):
+            faces = [[int(c) for c in f] for f in faces]
+    else:
+        faces = list(faces)
+        for k, f in enumerate(faces):  # whole numbers each: a float id was truncated before
+            if not isinstance(f, (list, tuple, np.ndarray)):
+                raise ValueError(f"{where(k)}: its vertex_indices is one number ({f!r}), not a list of vertex ids "
+                                 "(the header must declare 'property list <count type> <index type> vertex_indices')")
+            for c in f:
+                if not isinstance(c, (int, np.integer)) and not (math.isfinite(c) and float(c).is_integer()):
+                    raise ValueError(f"{where(k)}: vertex id {c!r} is not a whole number")
+            faces[k] = [int(c) for c in f]
     F, fans = _triangles(faces, where, len(V))
     return MeshFile(F, V, fans, where)

@@ -23,7 +23,7 @@ from typing import Callable
 import numpy as np
 
 from conecull.datasets import cloth, generated, skirt, squishy
-from conecull.datasets.checks import _first_out_of_range, count, fits_in_memory
+from conecull.datasets.checks import count, first_out_of_range, fits_in_memory
 
 CACHE_VERSION = 1
 
@@ -243,7 +243,7 @@ def _read_cached(path: Path, frames: int, n_triangles: int):
         raise damaged("a triangle repeats a vertex")
     if not np.isfinite(P).all():
         raise damaged("a non-finite position")
-    if (why := _first_out_of_range(P)) is not None:
+    if (why := first_out_of_range(P)) is not None:
         raise damaged(why)
     return F, P
 

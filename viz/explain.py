@@ -146,7 +146,7 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
             lines.append("normal cone: the full cone (no bound below 180 degrees)")
             tris = bvh["order"][bvh["begin"][node] : bvh["end"][node]]
             spread = normal_spread(Normals(col.mesh.faces, *tr.positions), tris)
-            lines.append(f"normals: {spread.sentence(len(tr.positions) == 2)}")
+            lines.append(f"normals: {spread.sentence(hasattr(res, 'vf'))}")
             lines.append("verdict: not culled, cone_too_wide: " + CONE_TOO_WIDE[1] + ".")
             return "\n".join(lines)
         ang = float(np.degrees(tr.cone["apex_angle"][i]))
@@ -189,7 +189,7 @@ def explain_cones(col, res, limit: int = 20) -> str:
         return f"method '{res.stats['method']}' uses no normal cones: no cone test ran."
     if not len(bad):
         return "no normal cone failed in this query: every node tested had a cone bounded below 180 degrees."
-    ccd = len(tr.positions) == 2
+    ccd = hasattr(res, "vf")
     spreads = node_spreads(Normals(col.mesh.faces, *tr.positions), bvh, bad)
     size = bvh["end"] - bvh["begin"]
     shown = sorted(spreads, key=lambda n: (-int(size[n]), n))[:limit]
@@ -198,7 +198,7 @@ def explain_cones(col, res, limit: int = 20) -> str:
         s = spreads[n]
         lines.append(f"node {n} (depth {int(bvh['depth'][n])}, {int(size[n])} triangles): {s.sentence(ccd)}")
     if len(spreads) > len(shown):
-        lines.append(f"(and {len(spreads) - len(shown)} more: `conecull record` logs every one)")
+        lines.append(f"(and {len(spreads) - len(shown)} more, smaller; `--node ID` for one)")
     return "\n".join(lines)
 
 

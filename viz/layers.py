@@ -28,7 +28,11 @@ STATUS_COLORS = np.array([[190, 190, 190], [235, 195, 60], [240, 130, 40], [80, 
 # not the patch; a paler yellow than a cone whose normals really span a hemisphere.
 CONE_BOUND_COLOR = (250, 225, 140)
 SPREAD_WORDS = {"beyond": "normals span a hemisphere", "within": "normals within a hemisphere",
-                "undecided": "spread undecided"}
+                "undecided": "spread undecided", "unsearched": "spread not searched"}
+# Hemisphere searches per frame (normal_spread.node_spreads), deepest nodes first: about 0.15-0.3 s
+# on falling's 4500 failed cones (169K triangles) where searching all took 0.8-1.2 s per frame,
+# which every frame change in the viewer paid.
+MAX_SPREAD_SEARCHES = 500
 CULLED_PALE = 0.5  # how far toward white the green of a culled face goes at the BVH's deepest level
 CULLED_CONTOUR_COLOR = (30, 110, 50)  # the culled nodes' outlines: a darker green than any culled face
 KERNEL_NOT_FOUND = next(c for c, (name, _) in REASONS.items() if name == "no_kernel_on_search_line")  # sct's
@@ -57,7 +61,8 @@ class FrameLayers:
     kernels: np.ndarray           # (c, 3) at the pose drawn (CCD: the end pose, so o at t = 1)
     rays: np.ndarray              # (c, 3) vectors, scaled to the node size
     cone_nodes: np.ndarray        # nodes not culled: cone too wide, contour failed, or ineligible
-    node_colors: np.ndarray       # (c, 3) uint8: yellow for a cone too wide, else REASON_COLORS
+    node_colors: np.ndarray       # (c, 3) uint8: yellow for a cone too wide (pale: normals within a
+                                  # hemisphere), else REASON_COLORS
     node_labels: list             # per cone node: "node 17: not_star_shaped", as the log names it
     axis_nodes: np.ndarray        # nodes whose cone was bounded: culled, contour failed, or ineligible
     axis_origins: np.ndarray      # their box centres
@@ -67,7 +72,6 @@ class FrameLayers:
     box_hi: np.ndarray            # (c, 3) and its upper one
     sentences: list               # one plain sentence per failing node: contour failures, then cones
     culled_summary: str           # one sentence on the culled nodes ("" if none)
-    cone_spreads: dict            # per node whose cone failed, its normals' Spread (normal_spread)
     cone_summary: str             # one sentence on the failed cones' spreads ("" if none failed)
 
 
@@ -93,15 +97,17 @@ def cone_sentence(spreads: dict, ccd: bool = False) -> str:
     if not spreads:
         return ""
     kinds = [s.kind for s in spreads.values()]
-    n, within, undecided = len(kinds), kinds.count("within"), kinds.count("undecided")
+    n, within, undecided, unsearched = len(kinds), kinds.count("within"), kinds.count("undecided"), kinds.count("unsearched")
     nodes = "node" if n == 1 else "nodes"
     normals = "the control vectors of their normals over the step" if ccd else "their normals"
-    text = (f"{n} {nodes} failed the normal cone test (Alg. 2 line 5): {n - within - undecided} have "
+    text = (f"{n} {nodes} failed the normal cone test (Alg. 2 line 5): {n - within - undecided - unsearched} have "
             f"{normals} spanning a hemisphere or more, so no cone {'over them ' if ccd else ''}could pass; "
             f"{within} have {normals} within an open hemisphere, so the failure is the cone bound's (merged from "
             "the children's cones, Sec. 3.6, and widened for rounding), not the patch's (each answer checked "
             "exactly)")
-    return text + (f"; {undecided} undecided (no witness held exactly)" if undecided else "")
+    text += f"; {undecided} undecided (no witness held exactly)" if undecided else ""
+    return text + (f"; {unsearched} not searched (past {MAX_SPREAD_SEARCHES} searches a frame, deepest nodes "
+                   "first; `conecull explain --cones` searches all)" if unsearched else "")
 
 
 def colliding_triangles(col, res) -> np.ndarray:
@@ -181,7 +187,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
     node_codes = np.concatenate([np.full(len(bad_cone), CONE_TOO_WIDE_CODE), tr.contour["reason"][fail],
                                  tr.contour["reason"][ineligible]]).astype(np.int64)
     ccd = hasattr(res, "vf")
-    spreads = node_spreads(Normals(faces, *tr.positions), bvh, bad_cone) if len(bad_cone) else {}
+    spreads = node_spreads(Normals(faces, *tr.positions), bvh, bad_cone, MAX_SPREAD_SEARCHES) if len(bad_cone) else {}
     node_colors = np.array([REASON_COLORS[int(c)] if c != CONE_TOO_WIDE_CODE else CONE_BOUND_COLOR
                             if spreads[n].kind == "within" else STATUS_COLORS[CONE_FAILED]
                             for n, c in zip(cone_nodes.tolist(), node_codes.tolist())], np.uint8).reshape(-1, 3)
@@ -219,7 +225,7 @@ def compute(col, faces: np.ndarray, V: np.ndarray, res) -> FrameLayers:
         box_lo=box[cone_nodes, 0].reshape(-1, 3), box_hi=box[cone_nodes, 1].reshape(-1, 3),
         sentences=sentences,
         culled_summary=culled_sentence(culled_nodes, depth, end - begin, m, ccd),
-        cone_spreads=spreads, cone_summary=cone_sentence(spreads, ccd),
+        cone_summary=cone_sentence(spreads, ccd),
     )
 
 

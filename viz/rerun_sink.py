@@ -322,10 +322,10 @@ class RerunRecorder:
                 "descended to its triangles")
         elif lay.culled_summary:
             say(lay.culled_summary)
-        if lay.cone_summary:
-            say(lay.cone_summary)
         elif not lay.sentences and col.mesh.n_faces == 1:
             say("the mesh is a single triangle: nothing to collide with, so nothing was tested")
+        if lay.cone_summary:
+            say(lay.cone_summary)
         room = MAX_LOG_LINES - len(hits)
         for line in lay.sentences[:room]:
             say(line)

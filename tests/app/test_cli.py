@@ -528,7 +528,7 @@ def test_a_fifo_as_out_is_refused(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("argv,msg", [
-    (["check", "fold", "--ccd", "--frames", "2"], "--ccd: --frames 2 selects one frame, so no step"),  # said "no collision"
+    (["check", "fold", "--ccd", "--frames", "2"], "--ccd: --frames 2 selects one frame, and `check` checks the steps"),  # said "no collision"
     (["check", "fold", "--frames", "1_0"], "--frames: expected A:B or K, got '1_0'"),  # read as frame 10
     (["check", "fold", "--frames", " 1 "], "--frames: expected A:B or K, got ' 1 '"),
     (["bench", "all", "--sizes", "-5,10"], "--sizes: expected triangle counts >= 8, got '-5,10'"),  # argparse's words

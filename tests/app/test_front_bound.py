@@ -3,7 +3,6 @@ normals lie in an open hemisphere), below it where normals fit in a hemisphere t
 cones miss, nothing kept on a flat sheet, something kept on a sheet folded onto itself. (The
 hemisphere test itself, normal_spread, is tested in tests/cone/test_normal_spread.py.)"""
 
-import numpy as np
 import pytest
 
 from conecull.app.front_bound import front_bound

@@ -1,7 +1,7 @@
 """app/tight_cones.py: the replay of Alg. 2 reproduces the core's counters (box tests and
-elementary tests) on every frame of two scenes, and culling more nodes never adds a test."""
+elementary tests) on frames of two scenes, culling more nodes never adds a test, and the nodes
+that would pass do cull more."""
 
-import numpy as np
 import pytest
 
 from conecull.app.tight_cones import main, tight_cone_gain
@@ -16,8 +16,13 @@ def test_the_replay_counts_as_the_core(scene):
         assert g["tight_bv_tests"] <= g["bv_tests"] and g["tight_elementary_tests"] <= g["elementary_tests"]
         assert g["would_pass"] <= g["within"] <= g["failed_cones"]
     assert any(g["within"] for g in gains)
+    assert any(g["tight_bv_tests"] < g["bv_tests"] and g["tight_elementary_tests"] < g["elementary_tests"]
+               for g in gains)
 
 
-def test_the_command_names_unknown_steps(capsys):
-    assert main(["no-such-step"]) == 1
-    assert "no shared steps" in capsys.readouterr().out
+def test_the_command_names_an_unknown_step(capsys):
+    from shared_data import DATA, require
+
+    require(DATA / "scalable-ccd")
+    assert main(["armadillo-rollers", "no-such-step"]) == 2
+    assert "STEP: unknown step 'no-such-step'; known: armadillo-rollers" in capsys.readouterr().err

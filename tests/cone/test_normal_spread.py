@@ -230,7 +230,7 @@ def test_nodes_whose_cone_failed_in_a_traced_query():
         bad = tr.cone["node"][~tr.cone["bounded"]]
         for n, s in node_spreads(Normals(F, *tr.positions), bvh, bad).items():
             seen.add(check_spread(s, F, bvh["order"][bvh["begin"][n] : bvh["end"][n]], V))
-    assert "beyond" in seen
+    assert seen == {"beyond", "within"}  # both happen (frame 21: 18 within, 3 beyond)
 
 
 def test_no_triangles_is_an_error():
@@ -292,3 +292,27 @@ def test_ccd_a_zero_middle_control_vector_is_not_a_zero_area():
     words = sp.sentence(ccd=True)
     assert "control vector 2 n1 of triangle 0 is zero" in words and "zero area" not in words
     assert "what a CCD cone bounds" in words
+
+
+def test_a_capped_search_leaves_the_rest_unsearched_deepest_first():
+    """node_spreads(max_searches=k): k searches, deepest nodes first; a node holding a searched
+    descendant's "beyond" witness still takes it; the rest are "unsearched", and say so."""
+    from conecull.datasets.generated import folding_sheet
+
+    F, P = folding_sheet(n_triangles=2000, n_frames=24)
+    col = conecull.SelfCollider(conecull.Mesh(F), method="nc")
+    col.dcd(P[0])
+    tr = col.dcd(P[21], trace=True).trace  # 21 failed cones: 18 within, 3 beyond
+    bvh = col.bvh_arrays()
+    bad = tr.cone["node"][~tr.cone["bounded"]]
+    normals = Normals(F, *tr.positions)
+    full = node_spreads(normals, bvh, bad)
+    capped = node_spreads(normals, bvh, bad, max_searches=5)
+    searched = [n for n, s in capped.items() if s.analysed]
+    assert len(searched) == 5
+    assert min(bvh["depth"][searched]) >= max(bvh["depth"][[n for n, s in capped.items() if s.kind == "unsearched"]])
+    for n, s in capped.items():
+        assert s.kind in (full[n].kind, "unsearched")
+        if s.kind == "unsearched":
+            assert "was not searched" in s.sentence()
+    assert any(s.kind == "unsearched" for s in capped.values())

@@ -491,6 +491,10 @@ def test_a_small_mesh_records_with_the_default_depth(tmp_path):
     record(one, F[:1], np.stack([V, V + 0.1]))
     assert [t for _, t in log_rows(one)[0]] == ["the mesh is a single triangle: nothing to collide with, so nothing "
                                                 "was tested"]
+    record(one, F[:1], np.stack([V, V + 0.1]), method="aabb")  # one line: the method's (the cone lines
+    assert [t for _, t in log_rows(one)[0]] == [                  # once broke this chain: both were logged)
+        "method aabb: no normal cones, so no node is culled: every pair of overlapping boxes is descended to its "
+        "triangles"]
     with pytest.raises(ValueError, match=r"bvh_depth: 1 is deeper than this mesh's BVH, whose nodes are at depths 0\.\.0"):
         record(path, F, np.stack([V, V]), bvh_depth=1)
 

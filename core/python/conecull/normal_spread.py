@@ -37,7 +37,7 @@ CONTROL_NAMES = ("n0", "n2", "2 n1")  # the CCD rows' control vectors, in normal
 
 @dataclass(frozen=True)
 class Spread:
-    kind: str                 # "beyond", "within" or "undecided" (module doc)
+    kind: str                 # "beyond", "within", "undecided" (module doc), or "unsearched" (node_spreads' cap)
     witness: tuple = ()       # beyond: 1-4 (triangle, control) rows whose normals hold 0 in their hull
     axis: np.ndarray | None = None  # within: l, with l . n > 0 for every normal (exact)
     half_angle: float = math.nan    # within: the widest angle (degrees, rounded) from l to a normal
@@ -64,7 +64,10 @@ class Spread:
             return (f"{what} fit in an open hemisphere (a cone of about {self.half_angle:.1f} degrees of half-angle "
                     f"about {ax} holds them, checked exactly): the node's cone bound, merged from its children's "
                     f"(Sec. 3.6) and widened for rounding (a sliver whose normal cannot be resolved has a full "
-                    f"cone), is looser than they are; a cone this tight would have passed the cone test")
+                    f"cone), is looser than they are; a cone this tight could have passed the cone test")
+        if self.kind == "unsearched":
+            return (f"whether {what} fit in a hemisphere was not searched (past the searches a frame makes; "
+                    f"`conecull explain --node` searches one node)")
         return (f"whether {what} fit in a hemisphere was not decided (the floating-point search found no witness "
                 f"that held exactly)")
 
@@ -282,6 +285,10 @@ def normal_spread(normals: Normals, tris) -> Spread:
         P = P.copy()
         for i in np.flatnonzero(~(normals.length[all_rows] > 0)):
             P[i] = normals.direction(int(rows[i]))
+    mean = P.sum(axis=0)  # most sets that fit have their mean as a witness: no search
+    d = P @ mean
+    if (d > 0).all() and (exact_dot_signs(mean, normals, all_rows) > 0).all():
+        return _within(mean, d)
     x, S = min_norm_point(P)
     d = P @ x
     if float(x @ x) > 0 and (d > 0).all():
@@ -375,10 +382,12 @@ def _within(l: np.ndarray, d: np.ndarray) -> Spread:
     return Spread("within", axis=np.array(l, np.float64), half_angle=math.degrees(math.acos(min(1.0, max(-1.0, cos)))))
 
 
-def node_spreads(normals: Normals, bvh: dict, nodes) -> dict:
+def node_spreads(normals: Normals, bvh: dict, nodes, max_searches: int | None = None) -> dict:
     """normal_spread of each node in `nodes` (BVH node ids; bvh as SelfCollider.bvh_arrays()),
     deepest first: a node holding the triangles of a descendant's "beyond" witness spans a
-    hemisphere too, so it takes that witness without a search (analysed=False)."""
+    hemisphere too, so it takes that witness without a search (analysed=False). max_searches: at
+    most this many searches (each about 0.1-0.3 ms, mostly Python's overhead: falling's 4500
+    failed cones took 0.65-1.1 s); the nodes past it are "unsearched"."""
     order, begin, end, depth = bvh["order"], bvh["begin"], bvh["end"], bvh["depth"]
     position = np.empty(len(order), np.int64)
     position[order] = np.arange(len(order))
@@ -390,6 +399,11 @@ def node_spreads(normals: Normals, bvh: dict, nodes) -> dict:
         if len(held):
             out[n] = Spread("beyond", witness=found[held[0]].witness, analysed=False)
             continue
+        if max_searches is not None:
+            if max_searches <= 0:
+                out[n] = Spread("unsearched", analysed=False)
+                continue
+            max_searches -= 1
         s = normal_spread(normals, order[lo:hi])
         if s.kind == "beyond":
             at = [int(position[t]) for t, _ in s.witness]

@@ -150,7 +150,7 @@ def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False,
 class Trace:
     """Events of one traced query: `trace.cone["axis"]`, `trace.contour["reason"]`, ..."""
 
-    def __init__(self, raw: dict, positions: tuple = ()):
+    def __init__(self, raw: dict, positions: tuple):
         # The query's positions, copied: (V,) for DCD, (V0, V1) for CCD; what the events were
         # computed from (normal_spread reads them to say why a cone failed).
         self.positions = positions
