@@ -89,7 +89,7 @@ def writable_file(name: str, path, example: str = "run.rrd") -> str:
     if not os.path.isdir(parent):
         raise ValueError(f"{name}: folder '{parent}' does not exist")
     existed = os.path.exists(path)
-    if existed and (stat.S_ISFIFO(os.stat(path).st_mode) or stat.S_ISSOCK(os.stat(path).st_mode)):
+    if existed and (stat.S_ISFIFO(mode := os.stat(path).st_mode) or stat.S_ISSOCK(mode)):
         raise ValueError(f"{name}: '{path}' is a FIFO or a socket, not a file (opening it would wait for a reader)")
     try:  # really open it: permissions, read-only or special file systems (/proc) all show here
         with open(path, "ab"):

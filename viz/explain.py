@@ -11,6 +11,7 @@ import numpy as np
 from conecull.normal_spread import Normals, node_spreads, normal_spread
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain
 from conecull.viz.checks import check_face, check_node
+from conecull.viz.layers import cone_sentence
 
 
 def parents(bvh: dict) -> np.ndarray:
@@ -179,8 +180,6 @@ def explain_node(col, res, node: int, *, node_name: str = "node") -> str:
 def explain_cones(col, res, limit: int = 20) -> str:
     """The nodes whose normal cone failed in a traced query (Alg. 2 line 5), counted by their
     normals' spread (normal_spread), then the largest of them one per line (at most `limit`)."""
-    from conecull.viz.layers import cone_sentence
-
     check_result(col, res)
     tr = res.trace
     bvh = col.bvh_arrays()

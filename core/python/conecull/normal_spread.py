@@ -118,9 +118,9 @@ class Normals:
     def direction(self, r: int) -> np.ndarray:
         """Row r's direction in floats from its exact value (for a row whose rounded value is 0)."""
         x = self.exact(r)
-        big = max(abs(v) for v in x)
-        d = np.array([v / big for v in x]) if big else np.zeros(3)
-        return d / np.linalg.norm(d) if big else d
+        big = max(abs(v) for v in x)  # > 0: callers ask only for rows that are not exactly zero
+        d = np.array([v / big for v in x])  # int / int: correctly rounded, no overflow
+        return d / np.linalg.norm(d)
 
 
 def _exact_row(faces, V0, V1, t: int, control: int) -> tuple:
@@ -129,9 +129,8 @@ def _exact_row(faces, V0, V1, t: int, control: int) -> tuple:
     all integers. Scaling a row by a positive factor changes neither the sign of l . n nor whether
     the origin is in a hull of rows, so each row may have its own."""
     poses = (V0,) if V1 is None or control == 0 else (V1,) if control == 1 else (V0, V1)
-    ratios = [[float(x).as_integer_ratio() for x in V[v]] for V in poses for v in faces[t]]
-    den = max(d for r in ratios for _, d in r)
-    pts = [[q * (den // d) for q, d in r] for r in ratios]  # per pose: a, b, c
+    flat = _int_scaled([x for V in poses for v in faces[t] for x in V[v]])  # one scale for all
+    pts = [flat[i : i + 3] for i in range(0, len(flat), 3)]  # per pose: a, b, c
 
     def edges(a, b, c):
         return [y - x for y, x in zip(b, a)], [z - x for z, x in zip(c, a)]
@@ -151,7 +150,8 @@ def _dot(u, w) -> int:
 
 
 def _int_scaled(v) -> tuple:
-    """A double vector times a positive power of two, in integers (as _exact_row)."""
+    """Doubles times one positive power of two, in integers (each is an integer over a power of
+    two: the largest denominator scales them all)."""
     ratios = [float(x).as_integer_ratio() for x in v]
     den = max(d for _, d in ratios)
     return tuple(q * (den // d) for q, d in ratios)
@@ -274,17 +274,14 @@ def normal_spread(normals: Normals, tris) -> Spread:
     tris = np.asarray(tris, np.int64).reshape(-1)
     if len(tris) == 0:
         raise ValueError("tris: expected at least one triangle")
-    all_rows = normals.rows(tris)
-    zero = all_rows[~(normals.length[all_rows] > 0)]
-    for r in zero:  # a rounded zero: exactly zero (no normal), unless the rounding cancelled it
-        if not any(normals.exact(int(r))):
-            return Spread("beyond", witness=(normals.row_id(int(r)),))
-    rows = all_rows
-    P = normals.unit[rows]
-    if len(zero):  # such rows search with their exact directions (they were left out: "undecided")
-        P = P.copy()
-        for i in np.flatnonzero(~(normals.length[all_rows] > 0)):
-            P[i] = normals.direction(int(rows[i]))
+    all_rows = rows = normals.rows(tris)
+    zero = np.flatnonzero(~(normals.length[rows] > 0))
+    for i in zero:  # a rounded zero: exactly zero (no normal), unless the rounding cancelled it
+        if not any(normals.exact(int(rows[i]))):
+            return Spread("beyond", witness=(normals.row_id(int(rows[i])),))
+    P = normals.unit[rows]  # a copy (fancy indexing)
+    for i in zero:  # such rows search with their exact directions (they were left out: "undecided")
+        P[i] = normals.direction(int(rows[i]))
     mean = P.sum(axis=0)  # most sets that fit have their mean as a witness: no search
     d = P @ mean
     if (d > 0).all() and (exact_dot_signs(mean, normals, all_rows) > 0).all():
