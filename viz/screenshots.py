@@ -31,6 +31,26 @@ def _browser(p):
                                                 viewport=VIEWPORT)
 
 
+def _settled_screenshot(page, path: str, wait: float, limit: float = 240.0) -> None:
+    """page's screenshot once it stops changing: after `wait` seconds, one every 3 s until two in a
+    row are the same, or `limit` seconds have passed (then the last, with a warning). The web viewer
+    ingests a large recording for tens of seconds while following the newest frame, so a capture
+    after a fixed wait could show an earlier frame than the one logged last."""
+    time.sleep(wait)
+    t0, last = time.monotonic(), None
+    while True:
+        shot = page.screenshot()
+        if shot == last:
+            break
+        if time.monotonic() - t0 > limit:
+            print(f"warning: {path}: the view was still changing after {wait + limit:.0f} s", flush=True)
+            break
+        last = shot
+        time.sleep(3.0)
+    with open(path, "wb") as fh:
+        fh.write(shot)
+
+
 def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution: int | None = None,
                      method: str = "nc", front_view: bool = False, wait: float = 12.0, compare: tuple = ()) -> None:
     """The rerun web viewer (served by the bundled `rerun` binary on 127.0.0.1), fed over gRPC.
@@ -92,8 +112,7 @@ def rerun_screenshot(path: str, scene: str = "fold", frame: int = 24, resolution
             ctx = _browser(p)
             page = ctx.new_page()
             page.goto(f"http://127.0.0.1:{web}/?url=rerun%2Bhttp://127.0.0.1:{grpc}/proxy")
-            time.sleep(wait)  # the web viewer renders with software WebGL
-            page.screenshot(path=path)
+            _settled_screenshot(page, path, wait)  # the web viewer renders with software WebGL
             ctx.close()
         rec.rec.disconnect()
     finally:
