@@ -9,6 +9,7 @@ what each declares, and only those are ever computed.
 
 from __future__ import annotations
 
+import ast
 import functools
 import hashlib
 import json
@@ -126,12 +127,49 @@ def cache_dir() -> Path:
     return Path(base) / "conecull"
 
 
+def _module_file(root: Path, module: str) -> Path | None:
+    """The source of a module of this package (`conecull.datasets...`), None for any other."""
+    if module != "conecull.datasets" and not module.startswith("conecull.datasets."):
+        return None
+    base = root.joinpath(*module.split(".")[2:])
+    for f in (base / "__init__.py", base.with_suffix(".py")):
+        if f.is_file():
+            return f
+    return None  # a name imported from a module, not a module
+
+
+def generation_sources() -> list[Path]:
+    """The package's source files a generated sequence can depend on: this module (the scenes'
+    declarations) and every module of the package it imports, directly or not, read from their
+    import statements (so a new import is followed). The loaders of real data (mesh files, input
+    resolution, the shared steps) are not among them: editing those keeps the cache."""
+    root = Path(__file__).parent
+    todo, found = ["conecull.datasets.registry"], {}
+    while todo:
+        module = todo.pop()
+        f = _module_file(root, module)
+        if f is None or f in found.values():
+            continue
+        found[module] = f
+        package = module if f.name == "__init__.py" else module.rpartition(".")[0]
+        for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), str(f))):
+            if isinstance(node, ast.Import):
+                todo += [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                parts = package.split(".")
+                base = ".".join(parts[:len(parts) - node.level + 1]) if node.level else ""
+                target = ".".join(x for x in (base, node.module or "") if x)
+                todo.append(target)
+                todo += [f"{target}.{a.name}" for a in node.names]  # `from package import module`
+    return sorted(found.values())
+
+
 def _code_digest() -> str:
-    """The datasets package's source (generators, scenes, simulator): editing any of it
-    invalidates cached sequences."""
+    """The source of what generates the scenes (generation_sources: generators, scenes,
+    simulator): editing any of it invalidates cached sequences."""
     h = hashlib.sha256()
     root = Path(__file__).parent
-    for f in sorted(root.rglob("*.py")):
+    for f in generation_sources():
         h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes())
     return h.hexdigest()[:16]
 

@@ -185,3 +185,26 @@ def test_listing_gives_each_scenes_resolution_and_its_least(tmp_path, monkeypatc
     assert len(F) == datasets.SCENES["squishy"].triangles(8)
     with pytest.raises(ValueError, match=r"resolution: 7 does not suit scene 'squishy'"):
         datasets.load("squishy", resolution=7, frames=2)
+
+
+def test_cache_key_covers_what_generates_and_not_the_loaders(tmp_path):
+    """The code digest reads the modules the scenes' generation imports (found statically): every
+    module of the package that generating a kinematic and a simulated scene actually loads is
+    among them, and the loaders of real data, which cannot change a generated sequence, are not."""
+    import subprocess
+    import sys
+
+    from conecull.datasets import registry
+
+    sources = {str(f) for f in registry.generation_sources()}
+    script = ("import sys\nfrom conecull.datasets import registry\n"
+              "registry.load('fold', resolution=6, frames=2)\nregistry.load('falling', resolution=6, frames=2)\n"
+              "print('\\n'.join(m.__file__ for n, m in sys.modules.items() if n.startswith('conecull.datasets')))")
+    env = {**__import__("os").environ, "CONECULL_CACHE": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, check=True).stdout
+    loaded = set(out.split())
+    assert loaded and loaded <= sources, loaded - sources
+    assert any(f.endswith("simulator.py") for f in loaded)
+    names = {f.rsplit("/", 1)[-1] for f in sources}
+    assert not names & {"mesh_files.py", "inputs.py", "shared.py"}
+    assert {"registry.py", "cloth.py", "simulator.py", "contact.py"} <= names
