@@ -440,3 +440,46 @@ def _write(folder, name, data):
     with open(os.path.join(folder, name), "w") as fh:
         json.dump(data, fh)
     return 0
+
+
+def _contour_json(sct, tests=33):
+    rows = [{"query": q, "method": m, "contour_tests": tests, "contour_passed": tests, "contour_edges": 100,
+             "colliding_pairs": 1, "contour_ms": 0.1 * v, "us_per_test": 1.0, "traversal_ms": 1.0, "query_ms": 2.0,
+             "contour_ms_vs_nc": v, "per_frame": []}
+            for q, m, v in (("DCD", "nc", 1.0), ("DCD", "sct", sct), ("DCD", "cbc", 50.0), ("CCD", "nc", 1.0),
+                            ("CCD", "cbc", 60.0))]
+    return {"scene": "folded sheet", "triangles": 200, "frames": 2, "repeats": 1, "rows": rows}
+
+
+def test_contour_runs_spread_and_the_median_judged(tmp_path, monkeypatch):
+    """The contour section runs three times over the evaluation, and the targets judge the median
+    of its runs' ratios (one slow run does not decide the row); every run's ratio is printed."""
+    from conecull.app import bench
+
+    ratios = iter([2.87, 3.73, 3.56])
+    monkeypatch.setattr(bench, "run_contour_bench",
+                        lambda n, f, r, folder: _write(folder, "contour.json", _contour_json(next(ratios))))
+    out = tmp_path / "c"
+    assert main(["bench", "all", "--skip", "scenes,steps,ipctk,ccd,threads", "--sizes", "1000",
+                 "--triangles", "200", "--repeats", "1", "--out", str(out)]) == 0
+    res = json.loads((out / "paper.json").read_text())
+    assert [r["when"] for r in res["contour"]["runs"]] == ["at its start", "straight after the first (every section "
+                                                           "between was skipped)", "at its end, after the scaling"]
+    sct = next(r for r in res["contour"]["rows"] if r["method"] == "sct")
+    assert sct["contour_ms_vs_nc_runs"] == [2.87, 3.73, 3.56] and sct["contour_ms_vs_nc"] == 3.56
+    target = next(t for t in res["targets"] if t["target"].startswith("contour test"))
+    assert target["verdict"] == "met" and target["values"]["ratios"]["DCD sct"] == 3.56
+    assert "| DCD | sct | 0.287 0.373 0.356 | 2.87 3.73 3.56 | 3.56x |" in (out / "report.md").read_text()
+    assert json.loads((out / "contour.json").read_text())["rows"] == res["contour"]["rows"]
+
+
+def test_contour_runs_whose_counters_differ_stop_the_run(tmp_path, monkeypatch):
+    from conecull.app import bench
+
+    tests = iter([33, 33, 34])
+    monkeypatch.setattr(bench, "run_contour_bench",
+                        lambda n, f, r, folder: _write(folder, "contour.json", _contour_json(3.5, next(tests))))
+    with pytest.raises(RuntimeError, match=r"bench all: contour run 3 disagrees with contour run 1 on DCD nc's "
+                                           r"contour_tests"):
+        main(["bench", "all", "--skip", "scenes,steps,ipctk,ccd,scaling,threads", "--triangles", "200",
+              "--repeats", "1", "--out", str(tmp_path / "d")])
