@@ -853,13 +853,13 @@ def run_all(args) -> int:
             cap = IPCTK_MAX_CANDIDATES if args.ipctk_candidates is None else args.ipctk_candidates
             run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, results,
                       max_candidates=cap)
-        if "threads" not in skip:  # 2 of THREAD_RUNS: in the middle, after whatever ran so far
-            _threads_run(args, out, thread_runs, _after([x for x in ("scenes", "steps", "ipctk") if x not in skip]))
+        middle = _after([x for x in ("scenes", "steps", "ipctk") if x not in skip])  # whatever ran so far
+        if "threads" not in skip:  # 2 of THREAD_RUNS
+            _threads_run(args, out, thread_runs, middle)
         if "contour" not in skip:  # 2 of CONTOUR_RUNS, its table printed
             print("## Contour tests (Fig. 9)")
             print()
-            _contour_run(args, out, contour_runs,
-                         _after([x for x in ("scenes", "steps", "ipctk") if x not in skip]), show=True)
+            _contour_run(args, out, contour_runs, middle, show=True)
             print()
         if "ccd" not in skip:
             print("## What accuracy costs in time")
@@ -905,43 +905,56 @@ def _after(sections, lead=""):
     return f"{lead}after the {names}"
 
 
+def _section_run(out, runs, section, total, when, run, show=False):
+    """One run of a section `bench all` repeats over the evaluation (threads, contour): run(folder)
+    writes its JSON into <section>_runs/N, appended to `runs` with `when` it ran; its own table is
+    printed only if `show` (the section's print_* prints the runs side by side)."""
+    folder = os.path.join(out, f"{section}_runs", str(len(runs) + 1))
+    print(f"- {section}, run {len(runs) + 1} of {total}", file=sys.stderr, flush=True)
+    with contextlib.redirect_stdout(sys.stdout if show else io.StringIO()):
+        run(folder)
+    runs.append({**_section_json(folder, f"{section}.json"), "when": when})
+
+
 def _threads_run(args, out, runs, when):
-    """One run of the threads section (`bench threads`, 2 threads against 1), its JSON appended to
-    `runs` with `when` it ran; its own table is not printed (print_threads prints the runs side by
-    side)."""
+    """One run of the threads section (`bench threads`, 2 threads against 1)."""
     from conecull.app import bench
 
-    folder = os.path.join(out, "threads_runs", str(len(runs) + 1))
-    print(f"- threads, run {len(runs) + 1} of {THREAD_RUNS}", file=sys.stderr, flush=True)
-    with contextlib.redirect_stdout(io.StringIO()):
-        bench.run_threads_bench(args.triangles, 4, args.repeats, folder, threads=2)
-    runs.append({**_section_json(folder, "threads.json"), "when": when})
+    _section_run(out, runs, "threads", THREAD_RUNS, when,
+                 lambda folder: bench.run_threads_bench(args.triangles, 4, args.repeats, folder, threads=2))
 
 
 def _contour_run(args, out, runs, when, show=False):
-    """One run of the contour section (`bench contour`) into contour_runs/N, its JSON appended to
-    `runs` with `when` it ran; its table printed only if `show` (print_contour_runs prints the
-    runs' ratios side by side)."""
+    """One run of the contour section (`bench contour`)."""
     from conecull.app import bench
 
-    folder = os.path.join(out, "contour_runs", str(len(runs) + 1))
-    print(f"- contour tests, run {len(runs) + 1} of {CONTOUR_RUNS}", file=sys.stderr, flush=True)
     frames = min(args.frames, 8) if args.frames > 0 else 8
-    with contextlib.redirect_stdout(sys.stdout if show else io.StringIO()):
-        bench.run_contour_bench(args.triangles, frames, args.repeats, folder)
-    runs.append({**_section_json(folder, "contour.json"), "when": when})
+    _section_run(out, runs, "contour", CONTOUR_RUNS, when,
+                 lambda folder: bench.run_contour_bench(args.triangles, frames, args.repeats, folder), show)
+
+
+def _rows_across_runs(runs, key_of, section):
+    """Each row of the first run, in its order, as (key, that row in every run); a run without it
+    is refused."""
+    by_key = [{key_of(r): r for r in run["rows"]} for run in runs]
+    for key in by_key[0]:
+        if any(key not in run for run in by_key):
+            raise ValueError(f"{section} runs: {key} is not in every run")
+        yield key, [run[key] for run in by_key]
+
+
+def _when(runs):
+    """' (at its start; after the ...; at its end)', or '' for runs an older paper.json does not date."""
+    when = [r.get("when") for r in runs]
+    return f" ({'; '.join(when)})" if all(when) else ""
 
 
 def median_contour(runs):
     """The contour section over several runs: each row (query, method) as in one run, its
     counters (the same in every run: checked) and the medians over the runs of its times and of its
     ratio to nc's contour time, with each run's ratio and contour time."""
-    by_key = [{(r["query"], r["method"]): r for r in run["rows"]} for run in runs]
     rows = []
-    for key in by_key[0]:  # the first run's order
-        if any(key not in run for run in by_key):
-            raise ValueError(f"contour runs: {key} is not in every run")
-        same = [run[key] for run in by_key]
+    for key, same in _rows_across_runs(runs, lambda r: (r["query"], r["method"]), "contour"):
         for counter in ("contour_tests", "contour_passed", "contour_edges", "colliding_pairs"):
             differ = [k for k, r in enumerate(same) if r[counter] != same[0][counter]]
             if differ:
@@ -959,12 +972,10 @@ def median_contour(runs):
 
 def print_contour_runs(contour):
     runs = contour["runs"]
-    when = [r.get("when") for r in runs]
-    spread = f" ({'; '.join(when)})" if all(when) else ""
     print(f"## Contour tests (Fig. 9) over {len(runs)} runs")
     print()
     print(f"Time inside the contour tests per query against `nc`'s, {len(runs)} runs of the section spread over "
-          f"this evaluation{spread}; the targets judge the median ratio.")
+          f"this evaluation{_when(runs)}; the targets judge the median ratio.")
     print()
     print("| query | method | contour ms per run | vs nc per run | median vs nc |")
     print("|---|---|---|---|---|")
@@ -977,12 +988,8 @@ def print_contour_runs(contour):
 def median_threads(runs):
     """The threads section over several runs: per query and thread count, the median speed-up and
     query ms over the runs (rows shaped like one run's, plus each run's speed-up), and the runs."""
-    by_key = [{(r["kind"], r["query"], r["threads"]): r for r in run["rows"]} for run in runs]
     rows = []
-    for key in by_key[0]:  # the first run's order
-        if any(key not in run for run in by_key):
-            raise ValueError(f"threads runs: {key} is not in every run")
-        same = [run[key] for run in by_key]
+    for key, same in _rows_across_runs(runs, lambda r: (r["kind"], r["query"], r["threads"]), "threads"):
         rows.append({"kind": key[0], "query": key[1], "threads": key[2],
                      "speedup": statistics.median(r["speedup"] for r in same),
                      "query_ms": statistics.median(r["query_ms"] for r in same),
@@ -995,11 +1002,9 @@ def print_threads(threads):
     runs = threads["runs"]
     print("## Threads")
     print()
-    when = [r.get("when") for r in runs]
-    spread = f" ({'; '.join(when)})" if all(when) else ""  # runs of an older paper.json do not say
     print(f"2 threads against 1 (`bench threads`: DCD on the {threads['triangles']}-triangle folding sheet per "
           f"method, CCD on the jittered fold step per arithmetic mode), {len(runs)} runs spread over this "
-          f"evaluation{spread}, the median per query; query ms are medians over the runs too.")
+          f"evaluation{_when(runs)}, the median per query; query ms are medians over the runs too.")
     print()
     print("| query | speed-up per run | median speed-up | 1 thread ms | 2 threads ms |")
     print("|---|---|---|---|---|")

@@ -144,24 +144,23 @@ def generation_sources() -> list[Path]:
     import statements (so a new import is followed). The loaders of real data (mesh files, input
     resolution, the shared steps) are not among them: editing those keeps the cache."""
     root = Path(__file__).parent
-    todo, found = ["conecull.datasets.registry"], {}
+    todo, found = ["conecull.datasets.registry"], set()
     while todo:
         module = todo.pop()
         f = _module_file(root, module)
-        if f is None or f in found.values():
+        if f is None or f in found:
             continue
-        found[module] = f
-        package = module if f.name == "__init__.py" else module.rpartition(".")[0]
+        found.add(f)
+        parts = (module if f.name == "__init__.py" else module.rpartition(".")[0]).split(".")  # its package
         for node in ast.walk(ast.parse(f.read_text(encoding="utf-8"), str(f))):
             if isinstance(node, ast.Import):
                 todo += [a.name for a in node.names]
             elif isinstance(node, ast.ImportFrom):
-                parts = package.split(".")
                 base = ".".join(parts[:len(parts) - node.level + 1]) if node.level else ""
                 target = ".".join(x for x in (base, node.module or "") if x)
                 todo.append(target)
                 todo += [f"{target}.{a.name}" for a in node.names]  # `from package import module`
-    return sorted(found.values())
+    return sorted(found)
 
 
 def _code_digest() -> str:
