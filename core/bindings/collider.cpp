@@ -151,6 +151,7 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     d["contour_failed_by_reason"] = reasons;
     d["contour_edges"] = s.contour_edges;
     d["front_entries"] = s.front_entries;
+    d["front_segments"] = s.front_segments;
     d["front_bytes"] = s.front_bytes;
     d["front_added"] = s.front_added;
     d["front_removed"] = s.front_removed;
@@ -237,11 +238,11 @@ py::dict front_arrays(const BvttFront& f, const Bvh& bvh) {
     uint8_t* r = resting.mutable_data();
     std::vector<int32_t> owner, ab;
     for (py::ssize_t x = 0; x < n; ++x) {
-        const bool sized = static_cast<size_t>(x) < f.tracked.size();  // reset() sizes tracked and rest together
-        c[x] = sized && f.is_tracked(static_cast<int32_t>(x)) ? f.count[x] : 0;
-        r[x] = sized ? f.rest[x] : 0;
+        const FrontSegment* rec = f.record(static_cast<int32_t>(x));
+        c[x] = rec && rec->tracked ? rec->count : 0;
+        r[x] = rec ? rec->rest : 0;
         for (int32_t i = 0; i < c[x]; ++i) {
-            const FrontEntry& e = f.entries[f.begin[x] + i];
+            const FrontEntry& e = f.entries[rec->begin + i];
             owner.push_back(static_cast<int32_t>(x));
             ab.push_back(e.a);
             ab.push_back(e.b);

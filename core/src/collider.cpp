@@ -70,8 +70,8 @@ SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, 
 void SelfCollider::build(const double* V) {
     bvh_ = build_bvh(*topo_, V, leaf_size_);
     contours_ = build_contours(bvh_, *topo_);
-    dcd_front_.reset(bvh_);
-    ccd_front_.reset(bvh_);
+    dcd_front_.reset();
+    ccd_front_.reset();
     dcd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
     ccd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
     built_ = true;
@@ -279,7 +279,7 @@ void SelfCollider::traverse_and_test(const double* V, Tracer& tracer, DcdResult&
 // the next query rebuilds the front from the top, and its counters do not depend on where the
 // query stopped.
 void SelfCollider::forget(BvttFront& front, std::vector<FirstTest>& first) {
-    front.reset(bvh_);
+    front.reset();
     std::fill(first.begin(), first.end(), FirstTest::kStar);
 }
 

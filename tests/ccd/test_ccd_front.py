@@ -117,8 +117,39 @@ def test_ccd_front_stats(method):
         if len(res.vf) + len(res.ee):
             contacts += 1
             assert s["front_entries"] > 0
-        assert s["front_bytes"] == 8 * s["front_entries"]
-        assert s["front_added"] >= 0 and s["front_removed"] >= 0
+        n_nodes = len(col.bvh_arrays()["right"])
+        assert s["front_bytes"] == 8 * s["front_entries"] + 24 * s["front_segments"] + 4 * n_nodes
         if k == 0:
             assert s["front_added"] == s["front_entries"] and s["front_removed"] == 0
+        else:
+            assert s["front_entries"] == prev + s["front_added"] - s["front_removed"], k
+        prev = s["front_entries"]
     assert contacts >= (len(P) - 1) // 2
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_untraced_steps_equal_brute_force(threads):
+    """check_step traces its queries (one thread, the traced traversal); queries run untraced,
+    on one and two threads: over the steps in sequence, a step repeated (the front unchanged),
+    a step without motion (V1 = V0: it stops) and a jump across the whole fold, every CCD
+    method's contacts equal the brute force's, and the fronts are resumed (fewer box tests
+    than without a front on most steps of the sequence)."""
+    F, P = poses()
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in conecull.CCD_METHODS}
+    n = len(P)
+    steps = [(k, k + 1) for k in range(n - 1)] + [(n - 2, n - 1), (n - 1, n - 1), (n - 1, n - 1), (0, n - 1), (n - 2, n - 1)]
+    saved = {m: 0 for m in FRONT}
+    for q, (i, j) in enumerate(steps):
+        vf_ref, ee_ref = expected_ccd(i, j)
+        res = {m: c.ccd(P[i], P[j], arithmetic="exact") for m, c in cols.items()}
+        for m, r in res.items():
+            assert rows(r.vf) == vf_ref and rows(r.ee) == ee_ref, f"threads={threads} step {i}->{j} {m}"
+        for m, base in FRONT.items():
+            s, b = res[m].stats, res[base].stats
+            assert (s["vf_tests"], s["ee_tests"]) == (b["vf_tests"], b["ee_tests"]), (q, m)
+            if 0 < q < n - 1:
+                saved[m] += s["bv_tests"] < b["bv_tests"]
+            if q in (n - 1, n + 1):  # the same step as the query before: the front stays as it was
+                assert s["front_added"] == 0 and s["front_removed"] == 0, (q, m, s)
+    assert all(v >= (n - 2) // 2 for v in saved.values()), saved

@@ -125,28 +125,53 @@ def test_motion_stops(name):
         assert s["front_added"] == 0 and s["front_removed"] == 0 and s["front_entries"] > 0, (m, s)
 
 
+def front_bytes(col, s):
+    """What a front keeps between queries (stats.hpp): 8 bytes per entry, 24 per record (one per
+    node the query reached with Collide(L, R)), 4 per BVH node (its slot)."""
+    return 8 * s["front_entries"] + 24 * s["front_segments"] + 4 * len(col.bvh_arrays()["right"])
+
+
+def check_front_records(col, s):
+    """The records: one per node the query tracked or rested at, at most one per internal node;
+    every node with entries has one. The conventional front (no cones) reaches every internal
+    node, so keeps a record for each."""
+    fr, right = col.front_arrays(), col.bvh_arrays()["right"]
+    internal = int(np.count_nonzero(right >= 0))
+    assert np.count_nonzero(fr["count"]) <= s["front_segments"] <= internal
+    assert np.all(right[fr["count"] > 0] >= 0) and np.all(right[fr["resting"] > 0] >= 0)
+    if col.method == "aabb+front":
+        assert s["front_segments"] == internal
+    assert s["front_bytes"] == front_bytes(col, s)
+
+
 def test_front_stats_consistent_and_front_reused():
     """The first query builds the whole front (every entry added, none removed), later ones
-    add and remove some (never a negative count); front_bytes counts its entries (8 bytes
-    each); after the first frame of a smooth sequence the front saves box tests (resumed where
-    the last query stopped instead of from the top). The waves are high enough that the cones
-    do not cull the whole sheet (amplitude 0.15 is culled at the root: see below)."""
+    add and remove some; front_bytes counts all the front keeps (entries, records, slots); after
+    the first frame of a smooth sequence the front saves box tests (resumed where the last query
+    stopped instead of from the top). The waves are high enough that the cones do not cull the
+    whole sheet (amplitude 0.15 is culled at the root: see below)."""
     F, frames = bending_sheet(2000, n_frames=8, amplitude=0.3)
     mesh = conecull.Mesh(F)
     cols = {m: conecull.SelfCollider(mesh, method=m) for m in conecull.METHODS}
+    changed = {m: [0, 0] for m in FRONT}
     for k, V in enumerate(frames):
         res = {m: c.dcd(V) for m, c in cols.items()}
         for m, base in FRONT.items():
             s = res[m].stats
-            assert s["front_entries"] > 0 and s["front_bytes"] == 8 * s["front_entries"]
-            assert s["front_added"] >= 0 and s["front_removed"] >= 0
+            assert s["front_entries"] > 0
+            check_front_records(cols[m], s)
             assert s["front_rested"] == 0, (k, m)  # smooth motion: no sub-segment churns
             if k == 0:
                 assert s["front_added"] == s["front_entries"] and s["front_removed"] == 0
             else:
                 assert s["bv_tests"] < 0.75 * res[base].stats["bv_tests"], (k, m)
+                assert s["front_entries"] == prev[m] + s["front_added"] - s["front_removed"], (k, m)
+                changed[m][0] += s["front_added"] > 0
+                changed[m][1] += s["front_removed"] > 0
+        prev = {m: res[m].stats["front_entries"] for m in FRONT}
         for m in ("aabb", "nc"):
-            assert res[m].stats["front_entries"] == 0
+            assert res[m].stats["front_entries"] == 0 and res[m].stats["front_bytes"] == 0
+    assert all(a and r for a, r in changed.values()), changed  # the fronts grew and shrank
 
 
 @pytest.mark.parametrize("scene,ratio", [("bending", 0.5), ("folding", 0.4)])
@@ -167,7 +192,9 @@ def test_nc_front_smaller_than_aabb_front_on_a_smooth_sheet(scene, ratio):
     for V in frames:
         a, b = nc.dcd(V).stats, aabb.dcd(V).stats
         assert 0 < a["front_entries"] <= ratio * b["front_entries"], (a["front_entries"], b["front_entries"])
-        assert a["front_bytes"] < b["front_bytes"]
+        # All it keeps, records and slots included: the culled regions keep no records either.
+        assert a["front_bytes"] <= ratio * b["front_bytes"], (a["front_bytes"], b["front_bytes"])
+        assert a["front_segments"] < b["front_segments"] / 4
 
 
 def test_gently_bending_sheet_is_culled_at_the_root():
@@ -278,3 +305,37 @@ def test_front_arrays_errors():
         with pytest.raises(ValueError, match="kind: expected 'dcd' or 'ccd'"):
             col.front_load(kind)
     assert len(col.front_arrays("dcd")["entries"]) == 0 and not col.front_load("ccd").any()  # before any query
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("name", list(SEQUENCES))
+def test_untraced_queries_equal_oracle_over_sequences(name, threads):
+    """The tests above trace their queries, which run on one thread through the traced
+    traversal; queries run untraced: the same sequences, on one and on two threads (the parallel
+    traversal, whose tasks build the front in parts). Every method's pairs equal the oracle's on
+    every frame, with the fronts kept from frame to frame, then across a jump back to the first
+    frame and at a repeated one (the front unchanged); the fronts are really resumed (fewer box
+    tests than without a front on most frames, where there is something to save)."""
+    F, frames = sequence(name)
+    mesh = conecull.Mesh(F)
+    cols = {m: conecull.SelfCollider(mesh, method=m, threads=threads) for m in conecull.METHODS}
+    n = len(frames)
+    saved = {m: 0 for m in FRONT}
+    for q, k in enumerate([*range(n), 0, 0, n - 1]):
+        res = {m: c.dcd(frames[k]) for m, c in cols.items()}
+        for m, r in res.items():
+            got = as_set(r.pairs)
+            assert got == oracle(name, k), f"{name} threads={threads} query {q} (frame {k}) {m}: " \
+                f"missing {sorted(oracle(name, k) - got)[:5]} extra {sorted(got - oracle(name, k))[:5]}"
+        for m, base in FRONT.items():
+            s = res[m].stats
+            assert s["elementary_tests"] == res[base].stats["elementary_tests"], (q, m)
+            check_front_records(cols[m], s)
+            if 0 < q < n:
+                saved[m] += s["bv_tests"] < res[base].stats["bv_tests"]
+            if q == n + 1:  # frame 0 again: nothing moved since the last query
+                assert s["front_added"] == 0 and s["front_removed"] == 0, (m, s)
+    # On the bending sheet the cones cull all but a few small Collide(L, R), where a front has
+    # little to save: there only the conventional front must.
+    for m in (FRONT if name != "bending" else ["aabb+front"]):
+        assert saved[m] >= (n - 1) // 2, saved

@@ -205,8 +205,11 @@ class DcdResult:
     """(k, 2) int64 colliding triangle ids, i < j, rows sorted lexicographically."""
     stats: dict = field(default_factory=dict)
     """Counters (bv_tests, cone_tests, contour_*, elementary_tests, colliding_pairs; front_entries,
-    front_bytes, front_added, front_removed, front_rested for the front methods, else 0; front_rested:
-    nodes whose front churned and that ran Collide from the top instead) and seconds per stage."""
+    front_segments, front_bytes, front_added, front_removed, front_rested for the front methods,
+    else 0; front_segments: the records kept, one per node the query reached Collide(L, R) at;
+    front_bytes: all the front keeps for the next query, 8 bytes per entry, 24 per record and 4
+    per BVH node; front_rested: nodes whose front churned and that ran Collide from the top
+    instead) and seconds per stage."""
     trace: Trace | None = None
     """The query's events (conecull.trace schema) when queried with trace=True."""
     collider: weakref.ref | None = field(default=None, repr=False, compare=False)

@@ -13,9 +13,9 @@
 // Alg. 4 (and the conventional front) has the same shape with FrontTracking(Front_N) in place
 // of Collide(L, R): it reads only Front_N of the previous query and writes only the new Front_N,
 // whose entries come out in traversal order after those of the nodes below N. So a task writes
-// its sub-segments into its own part, with begin[X] relative to that part; the parts are
-// concatenated in task order and begin[X] shifted by the part's offset: the same entries, in
-// the same layout, as the serial traversal. (A FrontTracking task is not split: its merges
+// its sub-segments and records into its own part, each record's begin relative to that part;
+// the parts are concatenated in task order, each begin shifted by its part's offset and each
+// record's slot set: the same entries and records, in the same layout, as the serial traversal. (A FrontTracking task is not split: its merges
 // join neighbouring entries of one sub-segment.)
 #pragma once
 
@@ -177,7 +177,7 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
     candidates.whole = nullptr;
     candidates.parts = &s.candidates;
     candidates.offset.assign(1, 0);
-    if (front) front->next.clear();
+    if (front) front->prepare(bvh);
     if (bvh.size() > 0) {
         std::vector<BvttTask>& tasks = s.tasks;
         // Many tasks per thread: they are uneven (a culled subtree costs one test), and the
@@ -214,15 +214,27 @@ void parallel_self_collide(const Bvh& bvh, int threads, const Make& make, BvttFr
         for (size_t k = 0; k < n; ++k)
             candidates.offset[k + 1] = candidates.offset[k] + static_cast<int64_t>(s.candidates[k].value.size());
         if (front) {
-            // The parts one after another, each Front_X it built moved by the part's offset.
-            std::vector<int64_t> offset(n + 1, 0);
-            for (size_t k = 0; k < n; ++k) offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].value.entries.size());
+            // The parts one after another, each record's sub-segment moved by its part's offset
+            // and numbered in the whole: the serial query's entries and records, in its order.
+            std::vector<int64_t> offset(n + 1, 0), first(n + 1, 0);
+            for (size_t k = 0; k < n; ++k) {
+                offset[k + 1] = offset[k] + static_cast<int64_t>(s.fronts[k].value.entries.size());
+                first[k + 1] = first[k] + static_cast<int64_t>(s.fronts[k].value.segments.size());
+            }
             front->next.entries.resize(static_cast<size_t>(offset[n]));
+            front->next.segments.resize(static_cast<size_t>(first[n]));
             FrontEntry* dst = front->next.entries.data();
+            FrontSegment* rec = front->next.segments.data();
             parallel_chunks(static_cast<int64_t>(n), offset[n] < (1 << 16) ? 1 : threads, [&](int64_t k, int) {
                 const FrontPart& p = s.fronts[k].value;
                 std::copy(p.entries.begin(), p.entries.end(), dst + offset[k]);
-                for (int32_t x : p.nodes) front->begin[x] += offset[k];
+                for (size_t i = 0; i < p.segments.size(); ++i) {
+                    FrontSegment r = p.segments[i];
+                    r.begin += offset[k];
+                    const int64_t at = first[k] + static_cast<int64_t>(i);
+                    rec[at] = r;
+                    front->slot[r.node] = static_cast<int32_t>(at);  // each node in one part only
+                }
             });
         }
     }

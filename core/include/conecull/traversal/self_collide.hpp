@@ -131,7 +131,7 @@ class SelfCollideTraversal {
           rebase_(part != nullptr) {}
 
     void run() {
-        if constexpr (kTrackFront) part_->clear();
+        if constexpr (kTrackFront) front_->prepare(bvh_);
         if (bvh_.size() > 0) self_collide(0);
         flush();
         if constexpr (kTrackFront) front_->finish_query(stats_);
@@ -326,10 +326,14 @@ class SelfCollideTraversal {
         BvttFront& f = *front_;
         FrontPart& next = *part_;
         const size_t start = next.entries.size();
+        // N's record from the last query (its sub-segment and churn state), if it visited N.
+        const FrontSegment* last = f.record(n);
+        FrontSegment rec{static_cast<int64_t>(start), n, 0, 0, last ? last->rest : uint8_t{0},
+                         last ? last->backoff : uint8_t{0}};
         // The front event of Front_N (how it was updated, its size before and after, the box
         // tests spent), at each way out; nothing of it is computed with tracing off.
         [[maybe_unused]] const int64_t tests_at_start = kTraceHooks<Tracer> ? stats_.bv_tests : 0;
-        [[maybe_unused]] const int32_t had = kTraceHooks<Tracer> && f.is_tracked(n) ? f.count[n] : 0;
+        [[maybe_unused]] const int32_t had = kTraceHooks<Tracer> && last && last->tracked ? last->count : 0;
         const auto traced = [&]([[maybe_unused]] FrontMode mode) {
             if constexpr (kTraceHooks<Tracer>)
                 tracer_.on_front(n, mode, had, mode == FrontMode::kResting || mode == FrontMode::kChurned
@@ -337,20 +341,21 @@ class SelfCollideTraversal {
                                  stats_.bv_tests - tests_at_start);
         };
         mergeable_run_ = 0;  // a new sub-segment: nothing before it may merge
-        if (f.rest[n] > 0) {  // resting after churn (bvtt_front.hpp): Alg. 2 line 13, unrecorded
-            --f.rest[n];
+        if (rec.rest > 0) {  // resting after churn (bvtt_front.hpp): Alg. 2 line 13, unrecorded
+            --rec.rest;
             ++stats_.front_rested;
             collide<false>(Bvh::left(n), bvh_[n].right);
+            keep_record(rec);
             traced(FrontMode::kResting);
             return;
         }
-        const FrontMode mode = f.is_tracked(n) ? FrontMode::kResumed : FrontMode::kFromTop;
+        const FrontMode mode = last && last->tracked ? FrontMode::kResumed : FrontMode::kFromTop;
         if (mode == FrontMode::kFromTop) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
             const int64_t tests_before = stats_.bv_tests;
-            const FrontEntry* seg = f.entries.data() + f.begin[n];
-            const int32_t count = f.count[n];
+            const FrontEntry* seg = f.entries.data() + last->begin;
+            const int32_t count = last->count;
             const BvhNode* nodes = bvh_.nodes.data();  // in a register across the loop
             for (int32_t k = 0; k < count; ++k) {
                 // A front is a flat list of independent box tests, known ahead: unlike a
@@ -380,17 +385,25 @@ class SelfCollideTraversal {
                     descend<true>(e.a, e.b);  // the front grows below e
                 }
             }
-            if (f.churned(n, stats_.bv_tests - tests_before, static_cast<int64_t>(next.entries.size() - start))) {
-                next.entries.resize(start);  // X rests from the next query: nothing kept
+            if (BvttFront::churned(rec, stats_.bv_tests - tests_before, static_cast<int64_t>(next.entries.size() - start))) {
+                next.entries.resize(start);  // N rests from the next query: nothing kept
+                keep_record(rec);
                 traced(FrontMode::kChurned);
                 return;
             }
         }
-        f.begin[n] = static_cast<int64_t>(start);  // a task's: rebased when the parts are joined
-        f.count[n] = static_cast<int32_t>(next.entries.size() - start);
-        f.tracked[n] = f.query + 1;
-        if (rebase_) next.nodes.push_back(n);
+        rec.count = static_cast<int32_t>(next.entries.size() - start);
+        rec.tracked = 1;
+        keep_record(rec);
         traced(mode);
+    }
+
+    // N's record for the next query. A task's records are numbered when the parts are joined
+    // (parallel_self_collide.hpp); a whole query numbers them here.
+    void keep_record(const FrontSegment& rec) {
+        FrontPart& next = *part_;
+        if (!rebase_) front_->slot[rec.node] = static_cast<int32_t>(next.segments.size());
+        next.segments.push_back(rec);
     }
 
     void push_front(FrontEntry e, bool mergeable) {
@@ -444,7 +457,7 @@ class SelfCollideTraversal {
     const std::atomic<bool>* interrupt_;
     BvttFront* front_;  // kTrackFront only
     FrontPart* part_;   // where the new sub-segments go
-    bool rebase_;       // part_ is a task's: record the nodes whose begin[] is relative to it
+    bool rebase_;       // part_ is a task's: its records are numbered, and begin rebased, at the join
     // How many entries at the end of the sub-segment being built may merge with a sibling: their
     // boxes are apart and they were not just made by descending a parent whose boxes overlap. A
     // merge only ever looks at the last two, and replaces them by one that may merge again, so

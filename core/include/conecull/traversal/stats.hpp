@@ -20,7 +20,8 @@ struct DcdStats {
     int64_t contour_edges = 0;       // contour edges visited by the contour test (cbc: 2 per edge pair)
     // BVTT front (methods "aabb+front", "nc+front"; 0 for the others), after the query:
     int64_t front_entries = 0;       // entries kept for the next query (over all sub-segments)
-    int64_t front_bytes = 0;         // their size: front_entries * sizeof(FrontEntry)
+    int64_t front_segments = 0;      // records kept: one per node the query visited (bvtt_front.hpp)
+    int64_t front_bytes = 0;         // all kept: entries (8 bytes), records (24), one slot per BVH node (4)
     int64_t front_added = 0;         // entries made this query (descents, merges, rebuilt sub-segments)
     int64_t front_removed = 0;       // entries of the previous front not kept (descended, merged, culled, churned)
     int64_t front_rested = 0;        // sub-segments not tracked this query: resting after churn
