@@ -138,6 +138,14 @@ def test_steps_and_ipctk_side_by_side_on_a_small_step(capsys):
     assert r["ours_fn"] is None and r["ours_fp"] is None and r["ipctk_fn"] == 0
     out = capsys.readouterr().out
     assert "both on one thread" in out and "| = ref |" in out
+    # Fig. 1 on the step: its efficiency is its contacts per VF/EE test, from the same query's stats
+    s = row["ccd_stats"]["nc"][0]
+    assert s["colliding_pairs"] == row["contacts"] and row["efficiency"]["ccd_nc"] == row["contacts"] / s["elementary_tests"]
+    assert f"| {name} | " in out.split("## Culling efficiency (Fig. 1), real steps")[1].split("##")[0]
+    # the cold queries (BVH built inside the timed query, as ipctk's) are timed and tabled
+    assert all(r[f"ours_cold_{k}_ms"] > 0 for k in ("ccd", "dcd", "first"))
+    cold = out.split("Ours with the BVH built inside the query")[1].split("Is this step")[0]
+    assert f"| {name} | {r['ours_cold_ccd_ms']:.1f} | {r['ipctk_ms'] / r['ours_cold_ccd_ms']:.1f}x |" in cold
     assert r["candidates"] > 0 and r["ipctk_intersecting"] == r["ours_intersecting"]
     assert r["ours_first_hit_ms"] > 0 and r["first_hit_speedup"] == r["has_intersections_ms"] / r["ours_first_hit_ms"]
     # is_step_collision_free against ccd(stop_at_first): the step has contacts, both say so
