@@ -812,6 +812,24 @@ def _plots(results, out):
         axes[0][0].legend(fontsize=7)
         fig.suptitle("Fig. 1: elementary tests vs true collisions per DCD query")
         save(fig, "fig1_efficiency.png")
+    contour = results.get("contour") or {}
+    ct = contour.get("rows") or []
+    if ct:
+        fig, ax = plt.subplots(figsize=(6, 3.6))
+        kinds = list(dict.fromkeys(r["query"] for r in ct))
+        methods = list(dict.fromkeys(r["method"] for r in ct))
+        ms = {(r["query"], r["method"]): r["contour_ms"] for r in ct}
+        w = 0.8 / len(methods)
+        x = np.arange(len(kinds))
+        for i, m in enumerate(methods):
+            ax.bar(x + i * w, [ms.get((k, m), np.nan) for k in kinds], w, label=m)
+        ax.set_xticks(x + 0.4 - w / 2, kinds)
+        ax.set_yscale("log")
+        ax.set_ylabel("ms in contour tests per query (log)")
+        ax.set_title(f"Fig. 9: contour tests, folded sheet ({_size_label(contour.get('triangles', 0))}), one thread",
+                     fontsize=10)
+        ax.legend(fontsize=8)
+        save(fig, "fig9_contour.png")
     sc = results.get("scaling") or []
     if sc:
         fig, ax = plt.subplots(figsize=(6, 4))

@@ -56,7 +56,8 @@ def test_bench_all_small(tmp_path, capsys):
     from shared_data import in_ci
 
     if _has("matplotlib") or in_ci():  # in CI the plots must be there
-        for png in ("fig10_dcd.png", "fig10_ccd.png", "fig11_front.png", "fig1_efficiency.png", "scaling.png"):
+        for png in ("fig10_dcd.png", "fig10_ccd.png", "fig11_front.png", "fig1_efficiency.png", "scaling.png",
+                    "fig9_contour.png"):
             assert (out / png).stat().st_size > 5000
 
 
@@ -420,6 +421,17 @@ def test_plots_say_the_thread_count_and_the_real_frames(tmp_path, monkeypatch):
     seen.clear()
     _plots({"threads": 1, "scenes": [scene]}, str(tmp_path))
     assert seen[0][1] == ["Fig. 10: DCD query time per method, one thread"]
+    # Fig. 9: one bar per method and query kind, in the section's order (a missing pair left out)
+    bars = []
+    monkeypatch.setattr("matplotlib.axes.Axes.bar", lambda self, x, h, w, label: bars.append((label, list(h))))
+    seen.clear()
+    rows = [{"query": q, "method": m, "contour_ms": v} for q, m, v in
+            (("DCD", "nc", 0.1), ("DCD", "sct", 0.3), ("DCD", "cbc", 9.0), ("CCD", "nc", 0.5), ("CCD", "cbc", 50.0))]
+    _plots({"contour": {"triangles": 64082, "rows": rows}}, str(tmp_path))
+    assert [name for name, *_ in seen] == ["fig9_contour.png"]
+    assert seen[0][1] == ["Fig. 9: contour tests, folded sheet (64K), one thread"] and seen[0][2][0] == ["DCD", "CCD"]
+    assert bars[0] == ("nc", [0.1, 0.5]) and bars[2] == ("cbc", [9.0, 50.0])
+    assert bars[1][0] == "sct" and bars[1][1][0] == 0.3 and np.isnan(bars[1][1][1])
 
 
 @pytest.mark.parametrize("skip, when", [
