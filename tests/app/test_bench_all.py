@@ -423,7 +423,15 @@ def test_plots_say_the_thread_count_and_the_real_frames(tmp_path, monkeypatch):
     assert seen[0][1] == ["Fig. 10: DCD query time per method, one thread"]
     # Fig. 9: one bar per method and query kind, in the section's order (a missing pair left out)
     bars = []
-    monkeypatch.setattr("matplotlib.axes.Axes.bar", lambda self, x, h, w, label: bars.append((label, list(h))))
+    from matplotlib.axes import Axes
+
+    draw_bar = Axes.bar
+
+    def bar(self, x, h, w, label):
+        bars.append((label, list(h)))
+        return draw_bar(self, x, h, w, label=label)
+
+    monkeypatch.setattr(Axes, "bar", bar)
     seen.clear()
     rows = [{"query": q, "method": m, "contour_ms": v} for q, m, v in
             (("DCD", "nc", 0.1), ("DCD", "sct", 0.3), ("DCD", "cbc", 9.0), ("CCD", "nc", 0.5), ("CCD", "cbc", 50.0))]
