@@ -166,10 +166,6 @@ struct BvttFront {
         if (s < 0 || static_cast<size_t>(s) >= segments.size() || segments[s].node != x) return nullptr;
         return &segments[s];
     }
-    bool is_tracked(int32_t x) const {
-        const FrontSegment* r = record(x);
-        return r && r->tracked;
-    }
 
     // Start of a query on `bvh`: the slots sized (a collider without a front method never
     // allocates them), the part being built empty.

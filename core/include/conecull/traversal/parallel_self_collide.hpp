@@ -15,8 +15,8 @@
 // whose entries come out in traversal order after those of the nodes below N. So a task writes
 // its sub-segments and records into its own part, each record's begin relative to that part;
 // the parts are concatenated in task order, each begin shifted by its part's offset and each
-// record's slot set: the same entries and records, in the same layout, as the serial traversal. (A FrontTracking task is not split: its merges
-// join neighbouring entries of one sub-segment.)
+// record's slot set: the same entries and records, in the same layout, as the serial traversal.
+// (A FrontTracking task is not split: its merges join neighbouring entries of one sub-segment.)
 #pragma once
 
 #include <algorithm>

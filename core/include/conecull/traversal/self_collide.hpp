@@ -328,12 +328,13 @@ class SelfCollideTraversal {
         const size_t start = next.entries.size();
         // N's record from the last query (its sub-segment and churn state), if it visited N.
         const FrontSegment* last = f.record(n);
+        const bool resumable = last && last->tracked;
         FrontSegment rec{static_cast<int64_t>(start), n, 0, 0, last ? last->rest : uint8_t{0},
                          last ? last->backoff : uint8_t{0}};
         // The front event of Front_N (how it was updated, its size before and after, the box
         // tests spent), at each way out; nothing of it is computed with tracing off.
         [[maybe_unused]] const int64_t tests_at_start = kTraceHooks<Tracer> ? stats_.bv_tests : 0;
-        [[maybe_unused]] const int32_t had = kTraceHooks<Tracer> && last && last->tracked ? last->count : 0;
+        [[maybe_unused]] const int32_t had = kTraceHooks<Tracer> && resumable ? last->count : 0;
         const auto traced = [&]([[maybe_unused]] FrontMode mode) {
             if constexpr (kTraceHooks<Tracer>)
                 tracer_.on_front(n, mode, had, mode == FrontMode::kResting || mode == FrontMode::kChurned
@@ -349,7 +350,7 @@ class SelfCollideTraversal {
             traced(FrontMode::kResting);
             return;
         }
-        const FrontMode mode = last && last->tracked ? FrontMode::kResumed : FrontMode::kFromTop;
+        const FrontMode mode = resumable ? FrontMode::kResumed : FrontMode::kFromTop;
         if (mode == FrontMode::kFromTop) {
             collide<true>(Bvh::left(n), bvh_[n].right);  // no front kept: from the top, L * R
         } else {
