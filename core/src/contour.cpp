@@ -31,10 +31,13 @@ struct UnionFind {
     }
 };
 
-// Cancels opposite half-edge pairs (interior edges); returns false when an edge is used
-// twice in the same direction or more than twice. `unions` counts patches joined.
+bool by_key(const HalfEdge& p, const HalfEdge& q) { return p.key() < q.key(); }
+
+// Cancels opposite half-edge pairs (interior edges) of `hes`, sorted by key; returns false when
+// an edge is used twice in the same direction or more than twice. `unions` counts patches
+// joined. What is left stays sorted by key, so a parent merges its children's boundaries
+// instead of sorting them (the build was 40% sorts before).
 bool cancel_interior(std::vector<HalfEdge>& hes, UnionFind& uf, int32_t& unions) {
-    std::sort(hes.begin(), hes.end(), [](const HalfEdge& p, const HalfEdge& q) { return p.key() < q.key(); });
     size_t out = 0;
     for (size_t s = 0; s < hes.size();) {
         size_t e = s + 1;
@@ -52,25 +55,29 @@ bool cancel_interior(std::vector<HalfEdge>& hes, UnionFind& uf, int32_t& unions)
     return true;
 }
 
-// Orders a boundary (a union of cycles) into one loop, or says why it is not one simple cycle.
-ContourStatus order_loop(const std::vector<HalfEdge>& boundary, std::vector<int32_t>& loop) {
+// Orders a boundary (a union of cycles) into one loop starting at its smallest vertex id, or says
+// why it is not one simple cycle. next_of / stamp_of: one slot per mesh vertex, stamp_of never
+// equal to `stamp` on entry (the node's id), so no clearing between nodes.
+ContourStatus order_loop(const std::vector<HalfEdge>& boundary, int32_t stamp, std::vector<int32_t>& next_of,
+                         std::vector<int32_t>& stamp_of, std::vector<int32_t>& loop) {
     if (boundary.empty()) return ContourStatus::kNoBoundary;
-    std::vector<HalfEdge> by_from = boundary;
-    std::sort(by_from.begin(), by_from.end(), [](const HalfEdge& p, const HalfEdge& q) { return p.from < q.from; });
-    for (size_t i = 1; i < by_from.size(); ++i)
-        if (by_from[i].from == by_from[i - 1].from) return ContourStatus::kNonSimpleLoop;
+    int32_t start = boundary[0].from;
+    for (const HalfEdge& h : boundary) {
+        if (stamp_of[h.from] == stamp) return ContourStatus::kNonSimpleLoop;  // two edges leave h.from
+        stamp_of[h.from] = stamp;
+        next_of[h.from] = h.to;
+        start = std::min(start, h.from);
+    }
     loop.clear();
-    int32_t v = by_from[0].from;
-    for (size_t steps = 0; steps < by_from.size(); ++steps) {
+    int32_t v = start;
+    for (size_t steps = 0; steps < boundary.size(); ++steps) {
         loop.push_back(v);
-        const auto it = std::lower_bound(by_from.begin(), by_from.end(), v,
-                                         [](const HalfEdge& h, int32_t x) { return h.from < x; });
         // A chain boundary has in-degree == out-degree everywhere, so this always finds one.
-        if (it == by_from.end() || it->from != v) return ContourStatus::kMultipleLoops;
-        v = it->to;
+        if (stamp_of[v] != stamp) return ContourStatus::kMultipleLoops;
+        v = next_of[v];
         if (v == loop.front()) break;
     }
-    if (loop.size() != by_from.size()) return ContourStatus::kMultipleLoops;
+    if (loop.size() != boundary.size()) return ContourStatus::kMultipleLoops;
     return ContourStatus::kSimpleLoop;
 }
 
@@ -81,13 +88,17 @@ Contours build_contours(const Bvh& bvh, const Topology& topo) {
     Contours c;
     c.status.assign(n, 0);
     c.components.assign(n, 0);
-    std::vector<std::vector<int32_t>> loops(n);
-    std::vector<std::vector<HalfEdge>> boundary(n);  // live only until the parent consumes it
+    // Boundaries wait on a stack until the parent consumes them: in reverse pre-order a node's
+    // right subtree is done, then its left, then the node, so its children's boundaries are the
+    // top two segments (the left child's on top). No per-node allocation.
+    std::vector<HalfEdge> stack, hes;
+    std::vector<size_t> segment;  // where each waiting boundary starts on the stack
+    std::vector<int32_t> flat, loop_at(n, 0), loop_size(n, 0);  // the loops, in the order found
     UnionFind uf(topo.n_faces());
-    std::vector<int32_t> loop;
+    std::vector<int32_t> loop, next_of(topo.n_vertices), stamp_of(topo.n_vertices, -1);
     for (int32_t i = n - 1; i >= 0; --i) {
         const BvhNode& node = bvh[i];
-        std::vector<HalfEdge> hes;
+        hes.clear();
         ContourStatus status = ContourStatus::kSimpleLoop;
         int32_t components = 0, unions = 0;
         if (node.is_leaf()) {
@@ -97,9 +108,14 @@ Contours build_contours(const Bvh& bvh, const Topology& topo) {
                 const int32_t* t = &topo.faces[3 * static_cast<size_t>(f)];
                 for (int j = 0; j < 3; ++j) hes.push_back({t[j], t[(j + 1) % 3], f});
             }
+            std::sort(hes.begin(), hes.end(), by_key);
             components = node.end - node.begin;
         } else {
             const int32_t l = Bvh::left(i), r = node.right;
+            const size_t left_begin = segment.back();
+            segment.pop_back();
+            const size_t right_begin = segment.back();
+            segment.pop_back();
             // A child that is non-manifold or inconsistent makes every ancestor so too.
             const auto poisoned = [&](ContourStatus s) {
                 return c.status[l] == static_cast<uint8_t>(s) || c.status[r] == static_cast<uint8_t>(s);
@@ -109,12 +125,13 @@ Contours build_contours(const Bvh& bvh, const Topology& topo) {
             } else if (poisoned(ContourStatus::kInconsistentEdge)) {
                 status = ContourStatus::kInconsistentEdge;
             } else {
-                hes = std::move(boundary[l]);
-                hes.insert(hes.end(), boundary[r].begin(), boundary[r].end());
+                // Both children's boundaries are sorted by key (cancel_interior keeps them so).
+                hes.resize(stack.size() - right_begin);
+                std::merge(stack.begin() + left_begin, stack.end(), stack.begin() + right_begin,
+                           stack.begin() + left_begin, hes.begin(), by_key);
                 components = c.components[l] + c.components[r];
             }
-            std::vector<HalfEdge>().swap(boundary[l]);
-            std::vector<HalfEdge>().swap(boundary[r]);
+            stack.resize(right_begin);
         }
         if (status == ContourStatus::kSimpleLoop) {
             if (!cancel_interior(hes, uf, unions)) {
@@ -125,20 +142,27 @@ Contours build_contours(const Bvh& bvh, const Topology& topo) {
                 if (components != 1) {
                     status = ContourStatus::kDisconnected;
                 } else {
-                    status = order_loop(hes, loop);
-                    if (status == ContourStatus::kSimpleLoop) loops[i] = loop;
+                    status = order_loop(hes, i, next_of, stamp_of, loop);
+                    if (status == ContourStatus::kSimpleLoop) {
+                        loop_at[i] = static_cast<int32_t>(flat.size());
+                        loop_size[i] = static_cast<int32_t>(loop.size());
+                        flat.insert(flat.end(), loop.begin(), loop.end());
+                    }
                 }
             }
         }
         // Keep the boundary for the parent even when this node is not eligible for other reasons
         // (disconnected, holes): the parent may still be a disk.
-        if (status != ContourStatus::kNonManifold && status != ContourStatus::kInconsistentEdge) boundary[i] = std::move(hes);
+        segment.push_back(stack.size());
+        if (status != ContourStatus::kNonManifold && status != ContourStatus::kInconsistentEdge)
+            stack.insert(stack.end(), hes.begin(), hes.end());
         c.status[i] = static_cast<uint8_t>(status);
     }
     c.offsets.assign(static_cast<size_t>(n) + 1, 0);
-    for (int32_t i = 0; i < n; ++i) c.offsets[i + 1] = c.offsets[i] + static_cast<int32_t>(loops[i].size());
-    c.vertices.reserve(c.offsets[n]);
-    for (int32_t i = 0; i < n; ++i) c.vertices.insert(c.vertices.end(), loops[i].begin(), loops[i].end());
+    for (int32_t i = 0; i < n; ++i) c.offsets[i + 1] = c.offsets[i] + loop_size[i];
+    c.vertices.resize(c.offsets[n]);
+    for (int32_t i = 0; i < n; ++i)
+        std::copy_n(flat.begin() + loop_at[i], loop_size[i], c.vertices.begin() + c.offsets[i]);
     return c;
 }
 
