@@ -38,18 +38,41 @@ Topology build_topology(const int32_t* faces, int32_t m, int32_t n_vertices) {
     struct HalfEdge {
         int32_t lo, hi, face, corner;
     };
+    // Bucketed by lo (a counting sort: one pass), then each bucket, a vertex's few edges, sorted by
+    // (hi, face): the order of one full sort by (lo, hi, face), in about half its time.
+    std::vector<int32_t> start(static_cast<size_t>(n_vertices) + 1, 0);
+    for (size_t i = 0; i < 3 * static_cast<size_t>(m); ++i) {
+        const int32_t a = faces[i], b = faces[i % 3 == 2 ? i - 2 : i + 1];
+        ++start[std::min(a, b) + 1];
+    }
+    for (int32_t v = 0; v < n_vertices; ++v) start[v + 1] += start[v];
     std::vector<HalfEdge> he(3 * static_cast<size_t>(m));
-    for (int32_t f = 0; f < m; ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const int32_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
-            he[3 * f + k] = {std::min(a, b), std::max(a, b), f, k};
+    {
+        std::vector<int32_t> cursor(start.begin(), start.end() - 1);
+        for (int32_t f = 0; f < m; ++f) {
+            for (int k = 0; k < 3; ++k) {
+                const int32_t a = faces[3 * f + k], b = faces[3 * f + (k + 1) % 3];
+                he[cursor[std::min(a, b)]++] = {std::min(a, b), std::max(a, b), f, k};
+            }
         }
     }
-    std::sort(he.begin(), he.end(), [](const HalfEdge& p, const HalfEdge& q) {
-        if (p.lo != q.lo) return p.lo < q.lo;
-        if (p.hi != q.hi) return p.hi < q.hi;
-        return p.face < q.face;
-    });
+    const auto by_hi_face = [](const HalfEdge& p, const HalfEdge& q) {
+        return p.hi != q.hi ? p.hi < q.hi : p.face < q.face;
+    };
+    for (int32_t v = 0; v < n_vertices; ++v) {
+        HalfEdge* b = he.data() + start[v];
+        HalfEdge* e = he.data() + start[v + 1];
+        if (e - b > 16) {
+            std::sort(b, e, by_hi_face);
+        } else {  // insertion sort: a vertex has a handful
+            for (HalfEdge* i = b + 1; i < e; ++i) {
+                const HalfEdge x = *i;
+                HalfEdge* j = i;
+                for (; j > b && by_hi_face(x, *(j - 1)); --j) *j = *(j - 1);
+                *j = x;
+            }
+        }
+    }
     t.face_edges.assign(3 * static_cast<size_t>(m), -1);
     t.edge_face_offsets.push_back(0);
     for (size_t s = 0; s < he.size();) {
