@@ -58,7 +58,7 @@ def run_demo(out: str = "demo.rrd", method: str = "nc") -> int:
     secs = time.perf_counter() - t
     print(f"{'frame':>5} {'cone tests':>10} {'culled':>7} {'contour fail':>12} {'elem tests':>10} {'colliding':>9} {'query ms':>8}")
     for k, s in enumerate(stats):
-        ms = 1e3 * (s["seconds_refit"] + s["seconds_traversal"] + s["seconds_elementary"])
+        ms = 1e3 * (s["seconds_build"] + s["seconds_refit"] + s["seconds_traversal"] + s["seconds_elementary"])
         print(f"{k:5d} {s['cone_tests']:10d} {s['contour_passed']:7d} {s['contour_failed']:12d} "
               f"{s['elementary_tests']:10d} {s['colliding_pairs']:9d} {ms:8.2f}")
     print(f"wrote {out} in {secs:.1f} s (traced queries + recording).")

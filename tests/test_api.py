@@ -187,8 +187,22 @@ def test_pairs_contract():
     assert (p[:, 0] < p[:, 1]).all()
     assert np.array_equal(p, np.unique(p, axis=0))  # sorted lexicographically, no duplicates
     for key in ("bv_tests", "cone_tests", "contour_passed", "contour_failed", "elementary_tests", "colliding_pairs",
-                "seconds_refit", "seconds_traversal", "seconds_elementary"):
+                "seconds_build", "seconds_refit", "seconds_traversal", "seconds_elementary"):
         assert key in res.stats
+
+
+@pytest.mark.parametrize("kind", ["dcd", "ccd"])
+def test_seconds_build_is_the_first_query_only(kind):
+    """The query that builds the BVH and contours reports that time apart from its refit; later
+    queries build nothing."""
+    from conecull.datasets.generated import folding_sheet
+
+    F, frames = folding_sheet(8000, 3)
+    col = conecull.SelfCollider(conecull.Mesh(F), method="nc", threads=1)
+    ask = (lambda k: col.dcd(frames[k])) if kind == "dcd" else (lambda k: col.ccd(frames[k], frames[k + 1]))
+    first, second = ask(0), ask(1)
+    assert first.stats["seconds_build"] > 0 and first.stats["seconds_refit"] > 0
+    assert second.stats["seconds_build"] == 0 and second.stats["seconds_refit"] > 0
 
 
 def test_queries_are_thread_safe():

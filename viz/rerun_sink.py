@@ -281,7 +281,7 @@ class RerunRecorder:
         else:
             self._scalar("/stats/tests/elementary", s["elementary_tests"])
             self._scalar("/stats/collisions", s["colliding_pairs"])
-        for stage in ("refit", "traversal", "elementary", "contour"):
+        for stage in ("build", "refit", "traversal", "elementary", "contour"):
             if f"seconds_{stage}" in s:
                 self._scalar(f"/stats/ms/{stage}", 1e3 * s[f"seconds_{stage}"])
         front = s.get("method", "").endswith("+front")

@@ -158,6 +158,7 @@ py::dict stats_dict(const DcdStats& s, Method method) {
     d["front_rested"] = s.front_rested;
     d["elementary_tests"] = s.elementary_tests;
     d["colliding_pairs"] = s.colliding_pairs;
+    d["seconds_build"] = s.seconds_build;
     d["seconds_refit"] = s.seconds_refit;
     d["seconds_traversal"] = s.seconds_traversal;
     d["seconds_elementary"] = s.seconds_elementary;

@@ -288,7 +288,11 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
     const bool fresh = !built_;
-    if (fresh) build(V);  // boxes fit to V
+    if (fresh) {
+        build(V);  // boxes fit to V
+        res.stats.seconds_build = seconds_since(t0);
+        t0 = Clock::now();
+    }
     // Boxes and cones in one sweep (bvh.cpp); refitting a fresh BVH's boxes gives them again.
     if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
     else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
@@ -340,7 +344,11 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
     CcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
     auto t0 = Clock::now();
-    if (!built_) build(V0);
+    if (!built_) {
+        build(V0);
+        res.stats.seconds_build = seconds_since(t0);
+        t0 = Clock::now();
+    }
     if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
     else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);

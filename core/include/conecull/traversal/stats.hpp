@@ -27,6 +27,7 @@ struct DcdStats {
     int64_t front_rested = 0;        // sub-segments not tracked this query: resting after churn
     int64_t elementary_tests = 0;
     int64_t colliding_pairs = 0;
+    double seconds_build = 0;        // building the BVH and contours (the collider's first query only)
     double seconds_refit = 0, seconds_traversal = 0, seconds_elementary = 0;
     double seconds_contour = 0;      // inside the contour tests (steady clock around each call; part of traversal)
 
