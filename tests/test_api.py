@@ -385,7 +385,11 @@ def run_script(script: str, *args, timeout: int = 600) -> tuple[list, float]:
     import subprocess
     import sys
 
-    out = subprocess.run([sys.executable, "-c", script, *map(str, args)], capture_output=True, text=True,
+    # A process started with SIGINT ignored (nohup, or `&` without job control) hands that on, and
+    # Python then installs no KeyboardInterrupt handler: give the script Python's own, as a
+    # terminal would (the query completed instead, and these tests failed, under `nohup ... &`).
+    prelude = "import signal; signal.signal(signal.SIGINT, signal.default_int_handler)\n"
+    out = subprocess.run([sys.executable, "-c", prelude + script, *map(str, args)], capture_output=True, text=True,
                          timeout=timeout)
     assert out.returncode == 0, out.stderr[-2000:]
     return out.stdout.split(), 10.0 if "libasan" in os.environ.get("LD_PRELOAD", "") else 0.5
