@@ -67,7 +67,8 @@ SelfCollider::SelfCollider(std::shared_ptr<const Topology> topo, Method method, 
     bvh_.leaf_size = leaf_size;  // reported by the debug views even before the first query
 }
 
-void SelfCollider::build(const double* V) {
+double SelfCollider::build(const double* V) {
+    const auto t0 = Clock::now();
     bvh_ = build_bvh(*topo_, V, leaf_size_);
     contours_ = build_contours(bvh_, *topo_);
     dcd_front_.reset();
@@ -75,6 +76,7 @@ void SelfCollider::build(const double* V) {
     dcd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
     ccd_first_.assign(bvh_.nodes.size(), FirstTest::kStar);
     built_ = true;
+    return seconds_since(t0);
 }
 
 // Stage (2) of Sec. 4.1 with the collider's method; candidates_ receives the triangle pairs.
@@ -286,13 +288,9 @@ void SelfCollider::forget(BvttFront& front, std::vector<FirstTest>& first) {
 DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int threads, bool stop_at_first) {
     DcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
-    auto t0 = Clock::now();
     const bool fresh = !built_;
-    if (fresh) {
-        build(V);  // boxes fit to V
-        res.stats.seconds_build = seconds_since(t0);
-        t0 = Clock::now();
-    }
+    if (fresh) res.stats.seconds_build = build(V);  // boxes fit to V
+    const auto t0 = Clock::now();
     // Boxes and cones in one sweep (bvh.cpp); refitting a fresh BVH's boxes gives them again.
     if (uses_cones(method_)) refit_boxes_and_cones(bvh_, *topo_, V, cones_, query_threads_);
     else if (!fresh) refit_boxes(bvh_, *topo_, V, query_threads_);
@@ -343,12 +341,8 @@ CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arith
                                     "'nc+front' or the CCD baseline 'cbc'");
     CcdResult res;
     query_threads_ = tracer ? 1 : resolve_threads(threads > 0 ? threads : threads_);
-    auto t0 = Clock::now();
-    if (!built_) {
-        build(V0);
-        res.stats.seconds_build = seconds_since(t0);
-        t0 = Clock::now();
-    }
+    if (!built_) res.stats.seconds_build = build(V0);
+    const auto t0 = Clock::now();
     if (uses_cones(method_)) refit_boxes_and_cones_ccd(bvh_, *topo_, V0, V1, cones_, query_threads_);
     else refit_boxes_ccd(bvh_, *topo_, V0, V1, query_threads_);
     res.stats.seconds_refit = seconds_since(t0);

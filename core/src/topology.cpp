@@ -38,13 +38,12 @@ Topology build_topology(const int32_t* faces, int32_t m, int32_t n_vertices) {
     struct HalfEdge {
         int32_t lo, hi, face, corner;
     };
-    // Bucketed by lo (a counting sort: one pass), then each bucket, a vertex's few edges, sorted by
+    // Bucketed by lo (a counting sort), then each bucket, a vertex's few edges, sorted by
     // (hi, face): the order of one full sort by (lo, hi, face), in about half its time.
+    const auto lo_of = [&](int32_t f, int k) { return std::min(faces[3 * f + k], faces[3 * f + (k + 1) % 3]); };
     std::vector<int32_t> start(static_cast<size_t>(n_vertices) + 1, 0);
-    for (size_t i = 0; i < 3 * static_cast<size_t>(m); ++i) {
-        const int32_t a = faces[i], b = faces[i % 3 == 2 ? i - 2 : i + 1];
-        ++start[std::min(a, b) + 1];
-    }
+    for (int32_t f = 0; f < m; ++f)
+        for (int k = 0; k < 3; ++k) ++start[lo_of(f, k) + 1];
     for (int32_t v = 0; v < n_vertices; ++v) start[v + 1] += start[v];
     std::vector<HalfEdge> he(3 * static_cast<size_t>(m));
     {
@@ -56,23 +55,10 @@ Topology build_topology(const int32_t* faces, int32_t m, int32_t n_vertices) {
             }
         }
     }
-    const auto by_hi_face = [](const HalfEdge& p, const HalfEdge& q) {
-        return p.hi != q.hi ? p.hi < q.hi : p.face < q.face;
-    };
-    for (int32_t v = 0; v < n_vertices; ++v) {
-        HalfEdge* b = he.data() + start[v];
-        HalfEdge* e = he.data() + start[v + 1];
-        if (e - b > 16) {
-            std::sort(b, e, by_hi_face);
-        } else {  // insertion sort: a vertex has a handful
-            for (HalfEdge* i = b + 1; i < e; ++i) {
-                const HalfEdge x = *i;
-                HalfEdge* j = i;
-                for (; j > b && by_hi_face(x, *(j - 1)); --j) *j = *(j - 1);
-                *j = x;
-            }
-        }
-    }
+    for (int32_t v = 0; v < n_vertices; ++v)
+        std::sort(he.begin() + start[v], he.begin() + start[v + 1], [](const HalfEdge& p, const HalfEdge& q) {
+            return p.hi != q.hi ? p.hi < q.hi : p.face < q.face;
+        });
     t.face_edges.assign(3 * static_cast<size_t>(m), -1);
     t.edge_face_offsets.push_back(0);
     for (size_t s = 0; s < he.size();) {

@@ -97,7 +97,7 @@ class SelfCollider {
     const BvttFront& front(bool continuous) const { return continuous ? ccd_front_ : dcd_front_; }
 
    private:
-    void build(const double* V);
+    double build(const double* V);  // the BVH and contours from pose V; returns the seconds taken
     template <class Tracer, class Motion>
     void traverse(const Motion& motion, Tracer& tracer, DcdStats& stats);
     template <class Tracer>
