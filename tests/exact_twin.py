@@ -487,3 +487,42 @@ def cbc_test_ccd(pts0, pts1, l):
 def cbc_test(pts, l):
     """CBC at one pose (the DCD use): the CCD test with no motion."""
     return cbc_test_ccd(pts, pts, l)
+
+
+def det3(p, q, r):
+    """det[p; q; r] = p . (q x r), exact."""
+    return dot(p, cross(q, r))
+
+
+def coplanarity_rows(kind, x0, x1):
+    """The rows of the coplanarity determinant of a VF pair (x = v, a, b, c: b - a, c - a, v - a)
+    or an EE pair (x = a, b, c, d: b - a, d - c, c - a), at t = 0 and at t = 1, exact."""
+    def rows(x):
+        x = [fr3(p) for p in x]
+        if kind == "vf":
+            v, a, b, c = x
+            return sub(b, a), sub(c, a), sub(v, a)
+        a, b, c, d = x
+        return sub(b, a), sub(d, c), sub(c, a)
+    return rows(x0), rows(x1)
+
+
+def coplanarity_cubic(rows0, rows1, t):
+    """det[p(t); q(t); r(t)] with each row moving linearly from rows0 to rows1 (t exact)."""
+    return det3(*[tuple(u + t * (w - u) for u, w in zip(r0, r1)) for r0, r1 in zip(rows0, rows1)])
+
+
+def coplanarity_bernstein(rows0, rows1):
+    """The cubic's Bernstein coefficients, derived from trilinearity: blossom values at (0,0,0),
+    (0,0,1) symmetrised, (0,1,1) symmetrised, (1,1,1); b1 and b2 carry the 1/3."""
+    (p0, q0, r0), (p1, q1, r1) = rows0, rows1
+    return (det3(p0, q0, r0),
+            (det3(p1, q0, r0) + det3(p0, q1, r0) + det3(p0, q0, r1)) / 3,
+            (det3(p1, q1, r0) + det3(p1, q0, r1) + det3(p0, q1, r1)) / 3,
+            det3(p1, q1, r1))
+
+
+def never_coplanar(kind, x0, x1) -> bool:
+    """The non-penetration filter's exact answer: all four Bernstein coefficients of one strict sign."""
+    s = {sgn(c) for c in coplanarity_bernstein(*coplanarity_rows(kind, x0, x1))}
+    return s == {1} or s == {-1}

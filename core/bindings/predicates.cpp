@@ -1,5 +1,6 @@
 // Predicate bindings (core/include/conecull/predicates/orient.hpp), vectorised over rows.
 #include "common.hpp"
+#include "conecull/ccd/non_penetration.hpp"
 #include "conecull/predicates/orient.hpp"
 
 namespace conecull::bind {
@@ -16,6 +17,20 @@ py::array_t<int8_t> rows4(const F64Array& a, const F64Array& b, const F64Array& 
     require_points(d, names[3], k, 3);
     py::array_t<int8_t> out(k);
     for (py::ssize_t i = 0; i < k; ++i) out.mutable_data()[i] = static_cast<int8_t>(fn(row(a, i), row(b, i), row(c, i), row(d, i)));
+    return out;
+}
+
+// The non-penetration filter on k pairs: eight (k, 3) arrays, the pair's four points at t = 0
+// then at t = 1; true per row if the filter culls it.
+template <class Fn>
+py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], Fn fn) {
+    require_points(x[0], names[0], -1, 3);
+    const py::ssize_t k = x[0].shape(0);
+    for (int j = 1; j < 8; ++j) require_points(x[j], names[j], k, 3);
+    py::array_t<bool> out(k);
+    for (py::ssize_t i = 0; i < k; ++i)
+        out.mutable_data()[i] = fn(row(x[0], i), row(x[1], i), row(x[2], i), row(x[3], i), row(x[4], i), row(x[5], i),
+                                   row(x[6], i), row(x[7], i));
     return out;
 }
 
@@ -43,6 +58,20 @@ void bind_predicates(py::module_& m) {
         }
         return out;
     }, py::arg("a"), py::arg("b"), py::arg("c"), "sign((b - a) x (c - a)) per row of (k, 2) arrays.");
+    m.def("vf_never_coplanar", [](const F64Array& v0, const F64Array& a0, const F64Array& b0, const F64Array& c0,
+                                  const F64Array& v1, const F64Array& a1, const F64Array& b1, const F64Array& c1) {
+        return rows8({v0, a0, b0, c0, v1, a1, b1, c1}, {"v0", "a0", "b0", "c0", "v1", "a1", "b1", "c1"},
+                     [](auto... p) { return vf_never_coplanar(p...); });
+    }, py::arg("v0"), py::arg("a0"), py::arg("b0"), py::arg("c0"), py::arg("v1"), py::arg("a1"), py::arg("b1"), py::arg("c1"),
+       "Non-penetration filter (ccd/non_penetration.hpp) per row: True if vertex v and triangle (a, b, c), moving "
+       "linearly from the *0 to the *1 positions, are proven never coplanar for t in [0, 1] (exact).");
+    m.def("ee_never_coplanar", [](const F64Array& a0, const F64Array& b0, const F64Array& c0, const F64Array& d0,
+                                  const F64Array& a1, const F64Array& b1, const F64Array& c1, const F64Array& d1) {
+        return rows8({a0, b0, c0, d0, a1, b1, c1, d1}, {"a0", "b0", "c0", "d0", "a1", "b1", "c1", "d1"},
+                     [](auto... p) { return ee_never_coplanar(p...); });
+    }, py::arg("a0"), py::arg("b0"), py::arg("c0"), py::arg("d0"), py::arg("a1"), py::arg("b1"), py::arg("c1"), py::arg("d1"),
+       "Non-penetration filter per row: True if edges (a, b) and (c, d), moving linearly, are proven never coplanar "
+       "for t in [0, 1] (exact).");
 }
 
 }  // namespace conecull::bind

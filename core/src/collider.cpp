@@ -307,30 +307,9 @@ DcdResult SelfCollider::dcd(const double* V, RecordingTracer* tracer, int thread
 }  // namespace conecull
 
 // ---- CCD ---------------------------------------------------------------------------------
-#include "conecull/predicates/det_sum.hpp"
+#include "conecull/ccd/non_penetration.hpp"
 
 namespace conecull {
-
-namespace {
-
-// Deforming non-penetration filter (Tang et al. 2010, Sec. 5.1): a contact needs the four
-// points coplanar at some t; their coplanarity function det[e1(t); e2(t); e3(t)] (e_i linear
-// in t, each a difference head - tail) is a cubic whose Bernstein coefficients are the
-// blossom values below. All four of one strict sign: never coplanar, no contact.
-bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
-    const Det3 c0[1] = {{e0[0], e0[1], e0[2]}};
-    const int s = det_sum_sign(c0);
-    if (s == 0) return false;
-    const Det3 c3[1] = {{e1[0], e1[1], e1[2]}};
-    if (det_sum_sign(c3) != s) return false;
-    // c1 = (det[e1', e2, e3] + det[e1, e2', e3] + det[e1, e2, e3']) / 3, c2 likewise with two primes
-    const Det3 c1[3] = {{e1[0], e0[1], e0[2]}, {e0[0], e1[1], e0[2]}, {e0[0], e0[1], e1[2]}};
-    if (det_sum_sign(c1) != s) return false;
-    const Det3 c2[3] = {{e1[0], e1[1], e0[2]}, {e1[0], e0[1], e1[2]}, {e0[0], e1[1], e1[2]}};
-    return det_sum_sign(c2) == s;
-}
-
-}  // namespace
 
 CcdResult SelfCollider::ccd(const double* V0, const double* V1, Arithmetic arithmetic, RecordingTracer* tracer,
                             bool want_toi, int threads, bool stop_at_first) {
@@ -477,9 +456,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     auto test_vf = [&](uint64_t key, CcdTally& out) {
         const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t* t = F + 3 * static_cast<size_t>(f);
-        const DetRow e0[3] = {{load(V0, t[1]), load(V0, t[0])}, {load(V0, t[2]), load(V0, t[0])}, {load(V0, v), load(V0, t[0])}};
-        const DetRow e1[3] = {{load(V1, t[1]), load(V1, t[0])}, {load(V1, t[2]), load(V1, t[0])}, {load(V1, v), load(V1, t[0])}};
-        if (never_coplanar(e0, e1)) {
+        if (vf_never_coplanar(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v), load(V1, t[0]),
+                              load(V1, t[1]), load(V1, t[2]))) {
             ++out.npf_culled;
             return;
         }
@@ -492,9 +470,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     auto test_ee = [&](uint64_t key, CcdTally& out) {
         const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
-        const DetRow e0[3] = {{load(V0, b), load(V0, a)}, {load(V0, d), load(V0, c)}, {load(V0, c), load(V0, a)}};
-        const DetRow e1[3] = {{load(V1, b), load(V1, a)}, {load(V1, d), load(V1, c)}, {load(V1, c), load(V1, a)}};
-        if (never_coplanar(e0, e1)) {
+        if (ee_never_coplanar(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b), load(V1, c),
+                              load(V1, d))) {
             ++out.npf_culled;
             return;
         }

@@ -1,0 +1,105 @@
+// Deforming non-penetration filter (Tang et al. 2010, Sec. 5.1), the low-level culling of every
+// VF and EE pair before its elementary CCD test: a contact needs the four points coplanar at some
+// t in [0, 1]. With rows p(t), q(t), r(t) linear in t (each a difference head - tail of two
+// linearly moving points), coplanarity is det[p(t); q(t); r(t)] = 0, a cubic in t. If its four
+// Bernstein coefficients share one strict sign, it has no root on [0, 1]: no contact.
+#pragma once
+
+#include <cmath>
+
+#include "conecull/predicates/det_sum.hpp"
+
+namespace conecull {
+
+namespace detail {
+
+// q x r and its permanent (|q_y r_z| + |q_z r_y|, ...): the rounded cross product is within a
+// few eps of the exact one relative to the permanent.
+struct Minor {
+    Vec3 v, a;
+};
+[[gnu::always_inline]] inline Minor minor_of(const Vec3& q, const Vec3& r) {
+    const double m1 = q.y * r.z, m2 = q.z * r.y, m3 = q.z * r.x, m4 = q.x * r.z, m5 = q.x * r.y, m6 = q.y * r.x;
+    return {{m1 - m2, m3 - m4, m5 - m6},
+            {std::fabs(m1) + std::fabs(m2), std::fabs(m3) + std::fabs(m4), std::fabs(m5) + std::fabs(m6)}};
+}
+[[gnu::always_inline]] inline double dot3(const Vec3& p, const Vec3& x) { return p.x * x.x + p.y * x.y + p.z * x.z; }
+[[gnu::always_inline]] inline double abs_dot3(const Vec3& p, const Vec3& a) {
+    return std::fabs(p.x) * a.x + std::fabs(p.y) * a.y + std::fabs(p.z) * a.z;
+}
+// 1 / -1 if `value`'s sign is proven by `bound`, else 0 (undecided: the exact sum decides).
+[[gnu::always_inline]] inline int filtered_sign(double value, double bound) {
+    return value > bound ? 1 : -value > bound ? -1 : 0;
+}
+
+}  // namespace detail
+
+// True if the coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1) has four Bernstein
+// coefficients of one strict sign (exactly decided). With p0, q0, r0 the rows of e0 and p1, q1,
+// r1 those of e1, det[p; q; r] = p . (q x r) is linear in each row, so the coefficients are
+// (the inner two times 3, which keeps their signs)
+//   c0 = det[p0; q0; r0]                                       = p0 . A
+//   c1 = det[p1; q0; r0] + det[p0; q1; r0] + det[p0; q0; r1]   = p1 . A + p0 . (B + C)
+//   c2 = det[p1; q1; r0] + det[p1; q0; r1] + det[p0; q1; r1]   = p1 . (B + C) + p0 . D
+//   c3 = det[p1; q1; r1]                                       = p1 . D
+// with A = q0 x r0, B = q1 x r0, C = q0 x r1, D = q1 x r1: four cross products shared by the eight
+// determinants (checked against the determinants in tests/ccd/test_non_penetration.py).
+//
+// Filter. Every monomial (a product of three exact row differences) reaches the rounded c_k
+// through at most 8 roundings in c0 and c3 (3 differences, the product and difference in the
+// cross product, the product and two sums of the dot product) and 10 in c1 and c2 (one more for
+// B + C, one for the final sum), so |rounded c_k - c_k| <= gamma_8 or gamma_10 times the sum of
+// the monomials' magnitudes; the permanents computed here from the rounded rows are that sum
+// within a factor 1 + 11 u. The bounds below, 9 u and 11 u times the rounded permanent (u =
+// kEps = 2^-53, as det_sum_sign's (8 + m) u for m = 1 and 3 determinants), cover both with margin.
+// No product under- or overflows for coordinates in [2^-128, 2^128] (the bindings' domain), so
+// the relative bounds hold. A coefficient the filter cannot sign is summed exactly (det_sum_sign_exact).
+inline bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
+    using namespace detail;
+    const Vec3 p0 = e0[0].head - e0[0].tail, q0 = e0[1].head - e0[1].tail, r0 = e0[2].head - e0[2].tail;
+    const Vec3 p1 = e1[0].head - e1[0].tail, q1 = e1[1].head - e1[1].tail, r1 = e1[2].head - e1[2].tail;
+    const Minor A = minor_of(q0, r0), B = minor_of(q1, r0), C = minor_of(q0, r1), D = minor_of(q1, r1);
+    const Vec3 S = B.v + C.v, Sa = B.a + C.a;
+    constexpr double k1 = 9.0 * kEps, k3 = 11.0 * kEps;
+    const int s0 = filtered_sign(dot3(p0, A.v), k1 * abs_dot3(p0, A.a));
+    const int s3 = filtered_sign(dot3(p1, D.v), k1 * abs_dot3(p1, D.a));
+    const int s1 = filtered_sign(dot3(p1, A.v) + dot3(p0, S), k3 * (abs_dot3(p1, A.a) + abs_dot3(p0, Sa)));
+    const int s2 = filtered_sign(dot3(p1, S) + dot3(p0, D.v), k3 * (abs_dot3(p1, Sa) + abs_dot3(p0, D.a)));
+    if (s0 != 0 && s1 == s0 && s2 == s0 && s3 == s0) return true;  // all proven, one sign
+    // A proven sign is the exact one: two proven signs that differ settle it.
+    const int any = s0 ? s0 : s1 ? s1 : s2 ? s2 : s3;
+    if ((s0 && s0 != any) || (s1 && s1 != any) || (s2 && s2 != any) || (s3 && s3 != any)) return false;
+    // Some coefficient is undecided (rare: the cubic nearly vanishes at an end or the rows nearly
+    // coplanar): decide each undecided one exactly, from its determinants as listed above.
+    const Det3 c0[1] = {{e0[0], e0[1], e0[2]}};
+    const Det3 c1[3] = {{e1[0], e0[1], e0[2]}, {e0[0], e1[1], e0[2]}, {e0[0], e0[1], e1[2]}};
+    const Det3 c2[3] = {{e1[0], e1[1], e0[2]}, {e1[0], e0[1], e1[2]}, {e0[0], e1[1], e1[2]}};
+    const Det3 c3[1] = {{e1[0], e1[1], e1[2]}};
+    const int e_0 = s0 ? s0 : detail::det_sum_sign_exact(c0, 1);
+    if (e_0 == 0 || (any && e_0 != any)) return false;
+    const int e_3 = s3 ? s3 : detail::det_sum_sign_exact(c3, 1);
+    if (e_3 != e_0) return false;
+    const int e_1 = s1 ? s1 : detail::det_sum_sign_exact(c1, 3);
+    if (e_1 != e_0) return false;
+    const int e_2 = s2 ? s2 : detail::det_sum_sign_exact(c2, 3);
+    return e_2 == e_0;
+}
+
+// The filter on a vertex-face pair: vertex v against triangle (a, b, c), at t = 0 and t = 1.
+// Coplanar when det[b - a; c - a; v - a] = 0.
+inline bool vf_never_coplanar(const Vec3& v0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& v1,
+                              const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    const DetRow e0[3] = {{b0, a0}, {c0, a0}, {v0, a0}};
+    const DetRow e1[3] = {{b1, a1}, {c1, a1}, {v1, a1}};
+    return never_coplanar(e0, e1);
+}
+
+// On an edge-edge pair: edge (a, b) against edge (c, d). Coplanar when det[b - a; d - c; c - a] = 0.
+inline bool ee_never_coplanar(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                              const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    const DetRow e0[3] = {{b0, a0}, {d0, c0}, {c0, a0}};
+    const DetRow e1[3] = {{b1, a1}, {d1, c1}, {c1, a1}};
+    return never_coplanar(e0, e1);
+}
+
+}  // namespace conecull
