@@ -34,6 +34,39 @@ py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], F
     return out;
 }
 
+// The CCD loop's four-at-a-time filter on rows of `pairs` (VF: vertex, face; EE: edge, edge), in
+// blocks of four as the loop runs them (the last block padded with its first pair).
+template <class Four>
+py::array_t<bool> never_coplanar_blocks(const F64Array& V0, const F64Array& V1, const I32Array& prims, int cols,
+                                        const char* prims_name, const I32Array& pairs, bool vf, Four four) {
+    require_points(V0, "V0", -1, 3);
+    require_points(V1, "V1", V0.shape(0), 3);
+    require_shape(prims, prims_name, -1, cols);
+    require_indices(prims, prims_name, "vertex index", V0.shape(0));
+    require_shape(pairs, "pairs", -1, 2);
+    const py::ssize_t k = pairs.shape(0);
+    const int32_t* q = pairs.data();
+    for (py::ssize_t i = 0; i < k; ++i) {
+        const int64_t n0 = vf ? V0.shape(0) : prims.shape(0), n1 = prims.shape(0);
+        if (q[2 * i] < 0 || q[2 * i] >= n0 || q[2 * i + 1] < 0 || q[2 * i + 1] >= n1)
+            throw py::value_error("pairs: row " + std::to_string(i) + " (" + std::to_string(q[2 * i]) + ", " +
+                                  std::to_string(q[2 * i + 1]) + ") is outside [0, " + std::to_string(n0) + ") x [0, " +
+                                  std::to_string(n1) + ")");
+    }
+    py::array_t<bool> out(k);
+    bool* o = out.mutable_data();
+    for (py::ssize_t b = 0; b < k; b += 4) {
+        uint64_t keys[4];
+        for (int l = 0; l < 4; ++l) {
+            const py::ssize_t i = b + l < k ? b + l : b;
+            keys[l] = static_cast<uint64_t>(q[2 * i]) << 32 | static_cast<uint32_t>(q[2 * i + 1]);
+        }
+        const uint32_t bits = four(V0.data(), V1.data(), prims.data(), keys);
+        for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) != 0;
+    }
+    return out;
+}
+
 }  // namespace
 
 void bind_predicates(py::module_& m) {
@@ -72,6 +105,21 @@ void bind_predicates(py::module_& m) {
     }, py::arg("a0"), py::arg("b0"), py::arg("c0"), py::arg("d0"), py::arg("a1"), py::arg("b1"), py::arg("c1"), py::arg("d1"),
        "Non-penetration filter per row: True if edges (a, b) and (c, d), moving linearly, are proven never coplanar "
        "for t in [0, 1] (exact).");
+    m.def("vf_never_coplanar4", [](const F64Array& V0, const F64Array& V1, const I32Array& faces,
+                                   const I32Array& pairs, bool portable) {
+        return never_coplanar_blocks(V0, V1, faces, 3, "faces", pairs, true,
+                                     portable ? vf_never_coplanar4_portable : vf_never_coplanar4);
+    }, py::arg("V0"), py::arg("V1"), py::arg("faces"), py::arg("pairs"), py::arg("portable") = false,
+       "The exact CCD loop's floating-point non-penetration filter, four (vertex, face) pairs at a time: True "
+       "where it proves the pair never coplanar (no exact fallback). portable=True: the path without AVX2.");
+    m.def("ee_never_coplanar4", [](const F64Array& V0, const F64Array& V1, const I32Array& edges,
+                                   const I32Array& pairs, bool portable) {
+        return never_coplanar_blocks(V0, V1, edges, 2, "edges", pairs, false,
+                                     portable ? ee_never_coplanar4_portable : ee_never_coplanar4);
+    }, py::arg("V0"), py::arg("V1"), py::arg("edges"), py::arg("pairs"), py::arg("portable") = false,
+       "As vf_never_coplanar4 on (edge, edge) pairs (rows of edges).");
+    m.def("never_coplanar4_vectorised", &never_coplanar4_vectorised,
+          "Whether vf_never_coplanar4 / ee_never_coplanar4 run their AVX2 path on this CPU.");
 }
 
 }  // namespace conecull::bind

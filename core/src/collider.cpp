@@ -635,6 +635,26 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     st.ee_candidates = static_cast<int64_t>(ee_keys.size());
     st.seconds_pairs = seconds_boxes + seconds_since(t0);
 
+    // keys[b, e): four at a time through the floating-point filter first (ccd/non_penetration.hpp),
+    // which culls most of them (91-99% on the real steps) at a fraction of a scalar filter's cost;
+    // the others, and the last few, through test (the full filter, exact where it must be, then
+    // the elementary test), in key order: the same contacts and counters as test on each key.
+    auto test_keys = [&](const uint64_t* keys, int64_t b, int64_t e, const auto& test, auto filter4,
+                         const int32_t* prims, CcdTally& out) {
+        int64_t i = b;
+        for (; i + 4 <= e; i += 4) {
+            const uint32_t culled = filter4(V0, V1, prims, keys + i);
+            if (culled == 0xf) {
+                out.npf_culled += 4;
+                continue;
+            }
+            for (int l = 0; l < 4; ++l) {
+                if (culled >> l & 1u) ++out.npf_culled;
+                else test(keys[i + l], out);
+            }
+        }
+        for (; i < e; ++i) test(keys[i], out);
+    };
     t0 = Clock::now();
     // The VF then the EE keys as one range, in chunks; each chunk keeps its own contacts and
     // counters.
@@ -651,10 +671,9 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
             for (int64_t b = keys.begin(k); b < end; b += kInterruptStride) {
                 if (interrupt_requested(interrupt_)) return;
                 const int64_t e = std::min(end, b + kInterruptStride);
-                for (int64_t i = b; i < e; ++i) {
-                    if (i < n_vf) test_vf(vf_keys[i], out);
-                    else test_ee(ee_keys[i - n_vf], out);
-                }
+                test_keys(vf_keys.data(), std::min(b, n_vf), std::min(e, n_vf), test_vf, vf_never_coplanar4, F, out);
+                test_keys(ee_keys.data(), std::max(b, n_vf) - n_vf, std::max(e, n_vf) - n_vf, test_ee,
+                          ee_never_coplanar4, E, out);
             }
         });
     });

@@ -131,3 +131,63 @@ def test_bad_input_names_the_argument(name, value):
     x[names.index(name)][1, 2] = value
     with pytest.raises(ValueError, match=name):
         P.vf_never_coplanar(*x)
+
+
+def as_mesh_pairs(kind, x0, x1):
+    """Pairs of points (k, 4, 3) as the loop sees them: positions V0, V1 with four vertices per
+    pair, faces or edges over them, and (vertex, face) or (edge, edge) rows."""
+    k = len(x0)
+    V0, V1 = x0.reshape(-1, 3).copy(), x1.reshape(-1, 3).copy()
+    base = 4 * np.arange(k, dtype=np.int32)
+    if kind == "vf":  # (v, a, b, c): face (a, b, c)
+        prims = np.stack([base + 1, base + 2, base + 3], axis=1).astype(np.int32)
+        pairs = np.stack([base, np.arange(k)], axis=1).astype(np.int32)
+    else:  # (a, b, c, d): edges (a, b) and (c, d)
+        prims = np.stack([base, base + 1, base + 2, base + 3], axis=1).reshape(-1, 2).astype(np.int32)
+        pairs = np.stack([2 * np.arange(k), 2 * np.arange(k) + 1], axis=1).astype(np.int32)
+    return V0, V1, prims, pairs
+
+
+FOUR = {"vf": P.vf_never_coplanar4, "ee": P.ee_never_coplanar4}
+
+
+@pytest.mark.parametrize("kind", ["vf", "ee"])
+@pytest.mark.parametrize("offset,scale", [(0.0, 1.0), (1.0, 1.0), (1e6, 1e-3), (1e-30, 1e-32)])
+def test_four_at_a_time_filter(kind, offset, scale):
+    """The CCD loop's four-lane filter (AVX2 where the CPU has it) gives the portable path's bits
+    and proves only pairs the exact twin culls; near the origin most of these pairs are beyond
+    any floating-point proof (the loop's full filter decides them exactly), far from it most are
+    proven."""
+    rng = np.random.default_rng(11)
+    x0, x1 = near_coplanar_pairs(rng, 203, offset, scale)  # 203: the last block is padded
+    V0, V1, prims, pairs = as_mesh_pairs(kind, x0, x1)
+    fast = FOUR[kind](V0, V1, prims, pairs)
+    assert (fast == FOUR[kind](V0, V1, prims, pairs, portable=True)).all()
+    exact = np.array([ex.never_coplanar(kind, a, b) for a, b in zip(x0, x1)])
+    assert not (fast & ~exact).any(), "the filter proved a pair the exact twin does not cull"
+    if offset == 1e6:
+        assert fast.sum() >= 0.9 * exact.sum()
+
+
+def test_four_at_a_time_filter_on_random_pairs():
+    rng = np.random.default_rng(3)
+    x0 = rng.standard_normal((401, 4, 3))
+    x1 = x0 + 0.3 * rng.standard_normal((401, 4, 3))
+    for kind in ("vf", "ee"):
+        V0, V1, prims, pairs = as_mesh_pairs(kind, x0, x1)
+        fast = FOUR[kind](V0, V1, prims, pairs)
+        assert (fast == FOUR[kind](V0, V1, prims, pairs, portable=True)).all()
+        # Away from degeneracy the filter decides every pair: it equals the exact answer.
+        assert (fast == run_filter(kind, x0, x1)).all()
+        assert 0 < fast.sum() < len(fast)
+
+
+def test_four_at_a_time_filter_bad_input():
+    V = np.zeros((4, 3))
+    faces = np.array([[1, 2, 3]], dtype=np.int32)
+    with pytest.raises(ValueError, match="pairs"):
+        P.vf_never_coplanar4(V, V, faces, np.array([[0, 1]], dtype=np.int32))
+    with pytest.raises(ValueError, match="V1"):
+        P.vf_never_coplanar4(V, np.zeros((3, 3)), faces, np.array([[0, 0]], dtype=np.int32))
+    with pytest.raises(ValueError, match="edges"):
+        P.ee_never_coplanar4(V, V, np.array([[0, 9]], dtype=np.int32), np.array([[0, 0]], dtype=np.int32))

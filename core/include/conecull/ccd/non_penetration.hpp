@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 
 #include "conecull/predicates/det_sum.hpp"
 
@@ -27,6 +28,8 @@ struct Minor {
 [[gnu::always_inline]] inline double abs_dot3(const Vec3& p, const Vec3& a) {
     return std::fabs(p.x) * a.x + std::fabs(p.y) * a.y + std::fabs(p.z) * a.z;
 }
+// The filter's bounds per unit of permanent (derivation at never_coplanar).
+inline constexpr double kNpfBound1 = 9.0 * kEps, kNpfBound3 = 11.0 * kEps;
 // 1 / -1 if `value`'s sign is proven by `bound`, else 0 (undecided: the exact sum decides).
 [[gnu::always_inline]] inline int filtered_sign(double value, double bound) {
     return value > bound ? 1 : -value > bound ? -1 : 0;
@@ -34,8 +37,7 @@ struct Minor {
 
 }  // namespace detail
 
-// True if the coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1) has four Bernstein
-// coefficients of one strict sign (exactly decided). With p0, q0, r0 the rows of e0 and p1, q1,
+// The coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1). With p0, q0, r0 the rows of e0 and p1, q1,
 // r1 those of e1, det[p; q; r] = p . (q x r) is linear in each row, so the coefficients are
 // (the inner two times 3, which keeps their signs)
 //   c0 = det[p0; q0; r0]                                       = p0 . A
@@ -54,17 +56,25 @@ struct Minor {
 // kEps = 2^-53, as det_sum_sign's (8 + m) u for m = 1 and 3 determinants), cover both with margin.
 // No product under- or overflows for coordinates in [2^-128, 2^128] (the bindings' domain), so
 // the relative bounds hold. A coefficient the filter cannot sign is summed exactly (det_sum_sign_exact).
-inline bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
+//
+// The filter's signs of c0..c3 (1, -1, or 0 where the bound cannot prove one), as above.
+inline void filtered_coplanarity_signs(const DetRow (&e0)[3], const DetRow (&e1)[3], int (&s)[4]) {
     using namespace detail;
     const Vec3 p0 = e0[0].head - e0[0].tail, q0 = e0[1].head - e0[1].tail, r0 = e0[2].head - e0[2].tail;
     const Vec3 p1 = e1[0].head - e1[0].tail, q1 = e1[1].head - e1[1].tail, r1 = e1[2].head - e1[2].tail;
     const Minor A = minor_of(q0, r0), B = minor_of(q1, r0), C = minor_of(q0, r1), D = minor_of(q1, r1);
     const Vec3 S = B.v + C.v, Sa = B.a + C.a;
-    constexpr double k1 = 9.0 * kEps, k3 = 11.0 * kEps;
-    const int s0 = filtered_sign(dot3(p0, A.v), k1 * abs_dot3(p0, A.a));
-    const int s3 = filtered_sign(dot3(p1, D.v), k1 * abs_dot3(p1, D.a));
-    const int s1 = filtered_sign(dot3(p1, A.v) + dot3(p0, S), k3 * (abs_dot3(p1, A.a) + abs_dot3(p0, Sa)));
-    const int s2 = filtered_sign(dot3(p1, S) + dot3(p0, D.v), k3 * (abs_dot3(p1, Sa) + abs_dot3(p0, D.a)));
+    s[0] = filtered_sign(dot3(p0, A.v), kNpfBound1 * abs_dot3(p0, A.a));
+    s[1] = filtered_sign(dot3(p1, A.v) + dot3(p0, S), kNpfBound3 * (abs_dot3(p1, A.a) + abs_dot3(p0, Sa)));
+    s[2] = filtered_sign(dot3(p1, S) + dot3(p0, D.v), kNpfBound3 * (abs_dot3(p1, Sa) + abs_dot3(p0, D.a)));
+    s[3] = filtered_sign(dot3(p1, D.v), kNpfBound1 * abs_dot3(p1, D.a));
+}
+
+// True if the cubic's four Bernstein coefficients have one strict sign (exactly decided).
+inline bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
+    int s[4];
+    filtered_coplanarity_signs(e0, e1, s);
+    const int s0 = s[0], s1 = s[1], s2 = s[2], s3 = s[3];
     if (s0 != 0 && s1 == s0 && s2 == s0 && s3 == s0) return true;  // all proven, one sign
     // A proven sign is the exact one: two proven signs that differ settle it.
     const int any = s0 ? s0 : s1 ? s1 : s2 ? s2 : s3;
@@ -101,5 +111,17 @@ inline bool ee_never_coplanar(const Vec3& a0, const Vec3& b0, const Vec3& c0, co
     const DetRow e1[3] = {{b1, a1}, {d1, c1}, {c1, a1}};
     return never_coplanar(e0, e1);
 }
+
+// Four pairs at a time, the floating-point filter only: bit l (l < 4) set if pair l is proven
+// never coplanar by filtered_coplanarity_signs, bit for bit (the AVX2 path does the same
+// operations in the same order, without FMA: avx2.hpp). A pair left unset may still be culled by
+// never_coplanar's exact part. VF keys are v << 32 | f (faces F, (m, 3)); EE keys ea << 32 | eb
+// (edges E, (k, 2)); V0, V1 the positions at t = 0 and t = 1. AVX2 where the CPU has it.
+uint32_t vf_never_coplanar4(const double* V0, const double* V1, const int32_t* F, const uint64_t* keys);
+uint32_t ee_never_coplanar4(const double* V0, const double* V1, const int32_t* E, const uint64_t* keys);
+// The same one lane at a time (for the tests: both paths must agree).
+uint32_t vf_never_coplanar4_portable(const double* V0, const double* V1, const int32_t* F, const uint64_t* keys);
+uint32_t ee_never_coplanar4_portable(const double* V0, const double* V1, const int32_t* E, const uint64_t* keys);
+bool never_coplanar4_vectorised();
 
 }  // namespace conecull
