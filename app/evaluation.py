@@ -51,8 +51,10 @@ SIZES = (16000, 64000, 256000, 1000000)
 # steps and ipctk, at its end), and reports the median speed-up per query. One run takes ~5 s, and
 # on this VM the host takes a vCPU away for milliseconds now and then, unseen by the guest (README,
 # Threads): a single run caught in a noisy few seconds had DCD rows at 1.5x where runs around it
-# had 1.8x. A median over runs apart in time is what the brief asks of benchmarks anyway.
-THREAD_RUNS = 3
+# had 1.8x. A median over runs apart in time is what the brief asks of benchmarks anyway. Five:
+# at b8c8520 the exact CCD query's three runs gave 1.66, 2.06 and 1.69x (the same query alone,
+# 1.97x), so a median of three still followed one slow run; the other two runs add ~10 s.
+THREAD_RUNS = 5
 # The contour section too, for the same reason: both sides of its ratio are a tenth to a few
 # tenths of a millisecond per query, and at 3896c4c its one run, caught in a slow phase, had sct at
 # 2.87x our contour time where three runs right after gave 3.56-3.78x. The targets judge the
@@ -85,14 +87,19 @@ def _colliders(F, frames, methods, threads, leaf_size=DEFAULT_LEAF_SIZE):
     return cols
 
 
-def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed=True, suite="all"):
+def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed=True, suite="all", rotate=0):
     """One pass over the frames (DCD) or steps k -> k + 1 (CCD), the methods taking turns per
     frame: wall ms appended to ms[m][k] (if timed), the stats kept in stats[m][k], and every method
-    checked against the first."""
+    checked against the one that ran first. The turns start at method `rotate` (mod their count):
+    passes that rotate it give every method each place in the turn equally often, so none always
+    runs after the same (heavier or lighter) method, whose traffic its caches then inherit."""
     methods = list(cols)
+    r = rotate % len(methods)
+    methods = methods[r:] + methods[:r]
     for k in range(len(frames) - 1 if ccd else len(frames)):
         ref = None
-        for m, col in cols.items():
+        for m in methods:
+            col = cols[m]
             t = time.perf_counter()
             res = col.ccd(frames[k], frames[k + 1], arithmetic=arithmetic) if ccd else col.dcd(frames[k])
             if timed:
@@ -113,8 +120,8 @@ def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmet
     n = len(frames) - 1 if ccd else len(frames)
     ms = {m: [[] for _ in range(n)] for m in methods}
     stats = {m: [None] * n for m in methods}
-    for _ in range(repeats):
-        _timed_pass(cols, frames, ms, stats, ccd=ccd, arithmetic=arithmetic, suite=suite)
+    for p in range(repeats):
+        _timed_pass(cols, frames, ms, stats, ccd=ccd, arithmetic=arithmetic, suite=suite, rotate=p)
     timed = range(1, n)
     if n == 1 and repeats > 1:  # one step: its first pass is the warm-up instead
         for m in methods:
@@ -432,7 +439,7 @@ def _time_dcd_interleaved(sheets, methods, passes, threads):
     stats = [{m: [None] * len(P) for m in methods} for _, P in sheets]
     for p in range(-1, passes):  # -1: the warm-up pass
         for i, (_, P) in enumerate(sheets):
-            _timed_pass(cols[i], P, ms[i], stats[i], timed=p >= 0)
+            _timed_pass(cols[i], P, ms[i], stats[i], timed=p >= 0, rotate=max(p, 0))
     med = [{m: statistics.median(statistics.median(ms[i][m][k]) for k in range(1, len(P))) for m in methods}
            for i, (_, P) in enumerate(sheets)]
     return med, [{m: st[m][-1] for m in methods} for st in stats]
@@ -914,6 +921,8 @@ def run_all(args) -> int:
             _contour_run(args, out, contour_runs, "at its start")  # 1 of CONTOUR_RUNS
         if "scenes" not in skip and scenes:
             run_scenes(scenes, args.frames, args.repeats, threads, results, resolution=args.resolution)
+            if "threads" not in skip:  # THREAD_RUNS spread over the evaluation
+                _threads_run(args, out, thread_runs, _after(["scenes"]))
         if "steps" not in skip:
             steps = run_steps(args.repeats, threads, results, n_triangles=args.triangles)
         if "ipctk" not in skip:
@@ -921,7 +930,7 @@ def run_all(args) -> int:
             run_ipctk(steps or shared_steps() + [_generated_step(args.triangles)], args.repeats, results,
                       max_candidates=cap)
         middle = _after([x for x in ("scenes", "steps", "ipctk") if x not in skip])  # whatever ran so far
-        if "threads" not in skip:  # 2 of THREAD_RUNS
+        if "threads" not in skip:
             _threads_run(args, out, thread_runs, middle)
         if "contour" not in skip:  # 2 of CONTOUR_RUNS, its table printed
             print("## Contour tests (Fig. 9)")
@@ -934,6 +943,9 @@ def run_all(args) -> int:
             bench.run_ccd_bench(args.triangles, 0, args.repeats, out, threads=threads)
             results["ccd"] = _section_json(out, "ccd.json")
             print()
+            if "threads" not in skip and len(thread_runs) < THREAD_RUNS - 1:
+                _threads_run(args, out, thread_runs, _after(
+                    [x for x in ("scenes", "steps", "ipctk", "contour", "ccd") if x not in skip]))
         if "scaling" not in skip and sizes:
             run_scaling(sizes, 4, args.repeats, threads, results)
         if "contour" not in skip:
@@ -945,7 +957,7 @@ def run_all(args) -> int:
                 json.dump(results["contour"], fh, indent=1)
             print_contour_runs(results["contour"])
         if "threads" not in skip:
-            while len(thread_runs) < THREAD_RUNS:  # the last: at the end
+            while len(thread_runs) < THREAD_RUNS:  # the last (and any a skipped section left): at the end
                 _threads_run(args, out, thread_runs, "at its end" + _after(
                     [x for x in ("contour", "ccd", "scaling") if x not in skip], ", "))
             results["threads_bench"] = median_threads(thread_runs)

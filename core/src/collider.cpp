@@ -636,9 +636,10 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     st.seconds_pairs = seconds_boxes + seconds_since(t0);
 
     // keys[b, e): four at a time through the floating-point filter first (ccd/non_penetration.hpp),
-    // which culls most of them (91-99% on the real steps) at a fraction of a scalar filter's cost;
-    // the others, and the last few, through test (the full filter, exact where it must be, then
-    // the elementary test), in key order: the same contacts and counters as test on each key.
+    // which culls many of them (the filter culls 61% of armadillo's, 93% of rod-twist's, 31-36% of
+    // the generated folds') for a fraction of a scalar filter's cost; the others, and the last
+    // few, through test (the full filter, exact where it must be, then the elementary test), in
+    // key order: the same contacts and counters as test on each key.
     auto test_keys = [&](const uint64_t* keys, int64_t b, int64_t e, const auto& test, auto filter4,
                          const int32_t* prims, CcdTally& out) {
         int64_t i = b;
