@@ -4,18 +4,19 @@ real steps, as markdown tables (stdout and report.md), PNG plots and JSON, in on
 Sections: query time per method for DCD and CCD (Fig. 10); front size of nc+front against
 aabb+front over the frames (Fig. 11); culling efficiency per frame, elementary tests against
 true collisions (Fig. 1); contour-test time (Fig. 9) and the accuracy table (the `contour` and
-`ccd` suites); scaling with the triangle count; 1 thread against 2 (the `threads` suite, run three
+`ccd` suites); scaling with the triangle count; 1 thread against 2 (the `threads` suite, run five
 times over the evaluation: see THREAD_RUNS); and, when ipctk is installed, ipctk side by side on
 the same steps.
 
 Timing protocol: every method has its own collider and walks the frames in order, pass after
 pass, so a front method always starts from the front the previous frame left (as in a
-simulation); within a frame the methods take turns, so load on a shared machine hits all alike.
-The first frame of a pass follows a jump (the last frame of the previous pass) and is not
+simulation); within a frame the methods take turns, so load on a shared machine hits all alike,
+and each pass starts the turns one method later, so that no method always runs right after the
+same one (whose memory traffic its caches inherit). The first frame of a pass follows a jump (the last frame of the previous pass) and is not
 timed. Per frame the median over passes, then the median over frames. One thread unless told.
-In every pass, every method's result is checked equal, pair for pair, to that of the first
-method of its list (DCD_METHODS or CCD_METHODS: "aabb"), and on the shared steps exact CCD to
-the ground truth: a benchmark of a wrong answer is worthless.
+In every pass, every method's result is checked equal, pair for pair, to that of the method
+that ran first in its frame, and on the shared steps exact CCD to the ground truth: a benchmark
+of a wrong answer is worthless.
 """
 
 from __future__ import annotations
