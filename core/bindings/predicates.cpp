@@ -35,9 +35,10 @@ py::array_t<bool> rows8(const F64Array (&x)[8], const char* const (&names)[8], F
 }
 
 // The CCD loop's four-at-a-time filter on rows of `pairs` (VF: vertex, face; EE: edge, edge), in
-// blocks of four as the loop runs them (the last block padded with its first pair).
+// blocks of four as the loop runs them (the last block padded with its first pair): per row 1 if
+// proven culled, -1 if proven kept, 0 if left to the exact filter.
 template <class Four>
-py::array_t<bool> never_coplanar_blocks(const F64Array& V0, const F64Array& V1, const I32Array& prims, int cols,
+py::array_t<int8_t> never_coplanar_blocks(const F64Array& V0, const F64Array& V1, const I32Array& prims, int cols,
                                         const char* prims_name, const I32Array& pairs, bool vf, Four four) {
     require_points(V0, "V0", -1, 3);
     require_points(V1, "V1", V0.shape(0), 3);
@@ -53,8 +54,8 @@ py::array_t<bool> never_coplanar_blocks(const F64Array& V0, const F64Array& V1, 
                                   std::to_string(q[2 * i + 1]) + ") is outside [0, " + std::to_string(n0) + ") x [0, " +
                                   std::to_string(n1) + ")");
     }
-    py::array_t<bool> out(k);
-    bool* o = out.mutable_data();
+    py::array_t<int8_t> out(k);
+    int8_t* o = out.mutable_data();
     for (py::ssize_t b = 0; b < k; b += 4) {
         uint64_t keys[4];
         for (int l = 0; l < 4; ++l) {
@@ -62,7 +63,7 @@ py::array_t<bool> never_coplanar_blocks(const F64Array& V0, const F64Array& V1, 
             keys[l] = static_cast<uint64_t>(q[2 * i]) << 32 | static_cast<uint32_t>(q[2 * i + 1]);
         }
         const uint32_t bits = four(V0.data(), V1.data(), prims.data(), keys);
-        for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) != 0;
+        for (int l = 0; l < 4 && b + l < k; ++l) o[b + l] = (bits >> l & 1) ? 1 : (bits >> (4 + l) & 1) ? -1 : 0;
     }
     return out;
 }
@@ -110,8 +111,9 @@ void bind_predicates(py::module_& m) {
         return never_coplanar_blocks(V0, V1, faces, 3, "faces", pairs, true,
                                      portable ? vf_never_coplanar4_portable : vf_never_coplanar4);
     }, py::arg("V0"), py::arg("V1"), py::arg("faces"), py::arg("pairs"), py::arg("portable") = false,
-       "The exact CCD loop's floating-point non-penetration filter, four (vertex, face) pairs at a time: True "
-       "where it proves the pair never coplanar (no exact fallback). portable=True: the path without AVX2.");
+       "The exact CCD loop's floating-point non-penetration filter, four (vertex, face) pairs at a time, per pair: "
+       "1 if proven never coplanar (culled), -1 if two coefficients are proven of opposite signs (kept), 0 if "
+       "left to the exact filter. portable=True: the path without AVX2.");
     m.def("ee_never_coplanar4", [](const F64Array& V0, const F64Array& V1, const I32Array& edges,
                                    const I32Array& pairs, bool portable) {
         return never_coplanar_blocks(V0, V1, edges, 2, "edges", pairs, false,

@@ -44,6 +44,9 @@ uint32_t never_coplanar4_portable(const double* V0, const double* V1, const int3
         int s[4];
         filtered_coplanarity_signs(r0, r1, s);
         if (s[0] != 0 && s[1] == s[0] && s[2] == s[0] && s[3] == s[0]) bits |= 1u << l;
+        const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0 || s[3] > 0;
+        const bool neg = s[0] < 0 || s[1] < 0 || s[2] < 0 || s[3] < 0;
+        if (pos && neg) bits |= 16u << l;
     }
     return bits;
 }
@@ -100,12 +103,17 @@ template <bool kVf>
                           _mm256_mul_pd(k1, abs_dot4(p1, D.a))};
     // value > bound (positive proven), -value > bound (negative proven): all four of one kind.
     const __m256d neg0 = _mm256_set1_pd(-0.0);
-    __m256d pos = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), neg = pos;  // every lane true
+    // all_*: every coefficient proven of that sign; any_*: some coefficient.
+    __m256d all_pos = _mm256_castsi256_pd(_mm256_set1_epi64x(-1)), all_neg = all_pos;
+    __m256d any_pos = _mm256_setzero_pd(), any_neg = any_pos;
     for (int k = 0; k < 4; ++k) {
-        pos = _mm256_and_pd(pos, _mm256_cmp_pd(c[k], b[k], _CMP_GT_OQ));
-        neg = _mm256_and_pd(neg, _mm256_cmp_pd(_mm256_xor_pd(c[k], neg0), b[k], _CMP_GT_OQ));
+        const __m256d pos = _mm256_cmp_pd(c[k], b[k], _CMP_GT_OQ);
+        const __m256d neg = _mm256_cmp_pd(_mm256_xor_pd(c[k], neg0), b[k], _CMP_GT_OQ);
+        all_pos = _mm256_and_pd(all_pos, pos), all_neg = _mm256_and_pd(all_neg, neg);
+        any_pos = _mm256_or_pd(any_pos, pos), any_neg = _mm256_or_pd(any_neg, neg);
     }
-    return static_cast<uint32_t>(_mm256_movemask_pd(_mm256_or_pd(pos, neg)));
+    return static_cast<uint32_t>(_mm256_movemask_pd(_mm256_or_pd(all_pos, all_neg))) |
+           static_cast<uint32_t>(_mm256_movemask_pd(_mm256_and_pd(any_pos, any_neg))) << 4;
 }
 #endif
 

@@ -112,10 +112,11 @@ inline bool ee_never_coplanar(const Vec3& a0, const Vec3& b0, const Vec3& c0, co
     return never_coplanar(e0, e1);
 }
 
-// Four pairs at a time, the floating-point filter only: bit l (l < 4) set if pair l is proven
-// never coplanar by filtered_coplanarity_signs, bit for bit (the AVX2 path does the same
-// operations in the same order, without FMA: avx2.hpp). A pair left unset may still be culled by
-// never_coplanar's exact part. VF keys are v << 32 | f (faces F, (m, 3)); EE keys ea << 32 | eb
+// Four pairs at a time, the floating-point filter only, from filtered_coplanarity_signs bit for
+// bit (the AVX2 path does the same operations in the same order, without FMA: avx2.hpp): bit l
+// (l < 4) set if pair l is proven never coplanar (never_coplanar is true), bit 4 + l if two of
+// its coefficients are proven of opposite signs (never_coplanar is false, no exact sum needed).
+// Neither: never_coplanar's exact part decides. VF keys are v << 32 | f (faces F, (m, 3)); EE keys ea << 32 | eb
 // (edges E, (k, 2)); V0, V1 the positions at t = 0 and t = 1. AVX2 where the CPU has it.
 uint32_t vf_never_coplanar4(const double* V0, const double* V1, const int32_t* F, const uint64_t* keys);
 uint32_t ee_never_coplanar4(const double* V0, const double* V1, const int32_t* E, const uint64_t* keys);
