@@ -457,8 +457,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     auto test_vf = [&](uint64_t key, CcdTally& out, bool filter = true) {
         const int32_t v = static_cast<int32_t>(key >> 32), f = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t* t = F + 3 * static_cast<size_t>(f);
-        if (filter && vf_never_coplanar(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v), load(V1, t[0]),
-                              load(V1, t[1]), load(V1, t[2]))) {
+        if (filter && vf_never_coplanar(load(V0, v), load(V0, t[0]), load(V0, t[1]), load(V0, t[2]), load(V1, v),
+                                        load(V1, t[0]), load(V1, t[1]), load(V1, t[2]))) {
             ++out.npf_culled;
             return;
         }
@@ -471,8 +471,8 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     auto test_ee = [&](uint64_t key, CcdTally& out, bool filter = true) {
         const int32_t ea = static_cast<int32_t>(key >> 32), eb = static_cast<int32_t>(key & 0xffffffffu);
         const int32_t a = E[2 * ea], b = E[2 * ea + 1], c = E[2 * eb], d = E[2 * eb + 1];
-        if (filter && ee_never_coplanar(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b), load(V1, c),
-                              load(V1, d))) {
+        if (filter && ee_never_coplanar(load(V0, a), load(V0, b), load(V0, c), load(V0, d), load(V1, a), load(V1, b),
+                                        load(V1, c), load(V1, d))) {
             ++out.npf_culled;
             return;
         }
