@@ -33,20 +33,19 @@ uint32_t never_coplanar4_portable(const double* V0, const double* V1, const int3
     for (int l = 0; l < 4; ++l) {
         Vec3 x0[4], x1[4];
         for (int k = 0; k < 4; ++k) x0[k] = load(V0, ids[k][l]), x1[k] = load(V1, ids[k][l]);
-        DetRow r0[3], r1[3];  // as vf_never_coplanar / ee_never_coplanar
+        DetRow r0[3], r1[3];
         if constexpr (kVf) {
-            r0[0] = {x0[2], x0[1]}, r0[1] = {x0[3], x0[1]}, r0[2] = {x0[0], x0[1]};
-            r1[0] = {x1[2], x1[1]}, r1[1] = {x1[3], x1[1]}, r1[2] = {x1[0], x1[1]};
+            vf_rows(x0[0], x0[1], x0[2], x0[3], r0);
+            vf_rows(x1[0], x1[1], x1[2], x1[3], r1);
         } else {
-            r0[0] = {x0[1], x0[0]}, r0[1] = {x0[3], x0[2]}, r0[2] = {x0[2], x0[0]};
-            r1[0] = {x1[1], x1[0]}, r1[1] = {x1[3], x1[2]}, r1[2] = {x1[2], x1[0]};
+            ee_rows(x0[0], x0[1], x0[2], x0[3], r0);
+            ee_rows(x1[0], x1[1], x1[2], x1[3], r1);
         }
         int s[4];
         filtered_coplanarity_signs(r0, r1, s);
-        if (s[0] != 0 && s[1] == s[0] && s[2] == s[0] && s[3] == s[0]) bits |= 1u << l;
-        const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0 || s[3] > 0;
-        const bool neg = s[0] < 0 || s[1] < 0 || s[2] < 0 || s[3] < 0;
-        if (pos && neg) bits |= 16u << l;
+        const int verdict = filtered_verdict(s);
+        if (verdict > 0) bits |= 1u << l;
+        if (verdict < 0) bits |= 16u << l;
     }
     return bits;
 }

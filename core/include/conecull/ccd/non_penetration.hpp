@@ -37,8 +37,9 @@ inline constexpr double kNpfBound1 = 9.0 * kEps, kNpfBound3 = 11.0 * kEps;
 
 }  // namespace detail
 
-// The coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1). With p0, q0, r0 the rows of e0 and p1, q1,
-// r1 those of e1, det[p; q; r] = p . (q x r) is linear in each row, so the coefficients are
+// The coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1). With p0, q0, r0 the rows of e0
+// and p1, q1, r1 those of e1, det[p; q; r] = p . (q x r) is linear in each row, so the
+// coefficients are
 // (the inner two times 3, which keeps their signs)
 //   c0 = det[p0; q0; r0]                                       = p0 . A
 //   c1 = det[p1; q0; r0] + det[p0; q1; r0] + det[p0; q0; r1]   = p1 . A + p0 . (B + C)
@@ -70,15 +71,23 @@ inline void filtered_coplanarity_signs(const DetRow (&e0)[3], const DetRow (&e1)
     s[3] = filtered_sign(dot3(p1, D.v), kNpfBound1 * abs_dot3(p1, D.a));
 }
 
+// What the filter's signs settle, a proven sign being the exact one: 1 never coplanar (all four
+// proven, one sign), -1 not proven so (two proven of opposite signs), 0 undecided.
+inline int filtered_verdict(const int (&s)[4]) {
+    if (s[0] != 0 && s[1] == s[0] && s[2] == s[0] && s[3] == s[0]) return 1;
+    const bool pos = s[0] > 0 || s[1] > 0 || s[2] > 0 || s[3] > 0;
+    const bool neg = s[0] < 0 || s[1] < 0 || s[2] < 0 || s[3] < 0;
+    return pos && neg ? -1 : 0;
+}
+
 // True if the cubic's four Bernstein coefficients have one strict sign (exactly decided).
 inline bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
     int s[4];
     filtered_coplanarity_signs(e0, e1, s);
+    const int verdict = filtered_verdict(s);
+    if (verdict != 0) return verdict > 0;
     const int s0 = s[0], s1 = s[1], s2 = s[2], s3 = s[3];
-    if (s0 != 0 && s1 == s0 && s2 == s0 && s3 == s0) return true;  // all proven, one sign
-    // A proven sign is the exact one: two proven signs that differ settle it.
-    const int any = s0 ? s0 : s1 ? s1 : s2 ? s2 : s3;
-    if ((s0 && s0 != any) || (s1 && s1 != any) || (s2 && s2 != any) || (s3 && s3 != any)) return false;
+    const int any = s0 ? s0 : s1 ? s1 : s2 ? s2 : s3;  // the proven signs, all this one (or none)
     // Some coefficient is undecided (rare: the cubic nearly vanishes at an end or the rows nearly
     // coplanar): decide each undecided one exactly, from its determinants as listed above.
     const Det3 c0[1] = {{e0[0], e0[1], e0[2]}};
@@ -95,20 +104,31 @@ inline bool never_coplanar(const DetRow (&e0)[3], const DetRow (&e1)[3]) {
     return e_2 == e_0;
 }
 
-// The filter on a vertex-face pair: vertex v against triangle (a, b, c), at t = 0 and t = 1.
-// Coplanar when det[b - a; c - a; v - a] = 0.
+// The rows of a vertex-face pair, vertex v against triangle (a, b, c): coplanar when
+// det[b - a; c - a; v - a] = 0.
+inline void vf_rows(const Vec3& v, const Vec3& a, const Vec3& b, const Vec3& c, DetRow (&e)[3]) {
+    e[0] = {b, a}, e[1] = {c, a}, e[2] = {v, a};
+}
+// Of an edge-edge pair, edge (a, b) against edge (c, d): coplanar when det[b - a; d - c; c - a] = 0.
+inline void ee_rows(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, DetRow (&e)[3]) {
+    e[0] = {b, a}, e[1] = {d, c}, e[2] = {c, a};
+}
+
+// The filter on a vertex-face pair at t = 0 and t = 1.
 inline bool vf_never_coplanar(const Vec3& v0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& v1,
                               const Vec3& a1, const Vec3& b1, const Vec3& c1) {
-    const DetRow e0[3] = {{b0, a0}, {c0, a0}, {v0, a0}};
-    const DetRow e1[3] = {{b1, a1}, {c1, a1}, {v1, a1}};
+    DetRow e0[3], e1[3];
+    vf_rows(v0, a0, b0, c0, e0);
+    vf_rows(v1, a1, b1, c1, e1);
     return never_coplanar(e0, e1);
 }
 
-// On an edge-edge pair: edge (a, b) against edge (c, d). Coplanar when det[b - a; d - c; c - a] = 0.
+// On an edge-edge pair.
 inline bool ee_never_coplanar(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
                               const Vec3& b1, const Vec3& c1, const Vec3& d1) {
-    const DetRow e0[3] = {{b0, a0}, {d0, c0}, {c0, a0}};
-    const DetRow e1[3] = {{b1, a1}, {d1, c1}, {c1, a1}};
+    DetRow e0[3], e1[3];
+    ee_rows(a0, b0, c0, d0, e0);
+    ee_rows(a1, b1, c1, d1, e1);
     return never_coplanar(e0, e1);
 }
 
