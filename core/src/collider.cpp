@@ -420,34 +420,52 @@ void SelfCollider::ccd_traverse_and_test(const double* V0, const double* V1, Ari
     // is then produced at most once with no sorting, and none is lost: if v touches f, the
     // boxes of owner(v) and f overlap, so that pair is a candidate (or lies in a culled node,
     // which has no contact at any t).
-    if (vertex_owner_.empty()) {
-        vertex_owner_.assign(topo_->n_vertices, -1);
-        for (int32_t f = topo_->n_faces() - 1; f >= 0; --f)
-            for (int k = 0; k < 3; ++k) vertex_owner_[F[3 * f + k]] = f;
-        edge_owner_.resize(topo_->n_edges());
-        for (int32_t e = 0; e < topo_->n_edges(); ++e) edge_owner_[e] = topo_->edge_face_ids[topo_->edge_face_offsets[e]];
+    // Each face's share as a 6-bit mask, so that making a candidate's pairs reads two bytes
+    // instead of the owners of its six corners and six edges, scattered over two arrays (with
+    // those, making the pairs took longer than the elementary tests on the rod-twist step).
+    if (face_owns_.size() != static_cast<size_t>(n_f)) {
+        std::vector<int32_t> vertex_owner(n_v, -1);
+        for (int32_t f = static_cast<int32_t>(n_f) - 1; f >= 0; --f)
+            for (int k = 0; k < 3; ++k) vertex_owner[F[3 * f + k]] = f;
+        face_owns_.assign(n_f, 0);
+        for (int32_t f = 0; f < n_f; ++f)
+            for (int k = 0; k < 3; ++k) {
+                if (vertex_owner[F[3 * f + k]] == f) face_owns_[f] |= static_cast<uint8_t>(1u << k);
+                const int32_t e = FE[3 * f + k];
+                if (topo_->edge_face_ids[topo_->edge_face_offsets[e]] == f)
+                    face_owns_[f] |= static_cast<uint8_t>(8u << k);
+            }
     }
     const double seconds_boxes = seconds_since(t0);
+    // A candidate's VF and EE pairs whose swept boxes overlap. A primitive's swept box lies in
+    // its face's, so two faces whose swept boxes are apart have none: one test skips them (a
+    // leaf pair's four triangle pairs share the leaves' overlap, not each its own). Flat box
+    // tests: whether a pair overlaps is as hard to predict here as in FrontTracking's walk.
     auto pairs_of = [&](const TrianglePair& c, auto& vf_keys, auto& ee_keys) {
+        const Aabb bp = face_boxes_[c.first], bq = face_boxes_[c.second];
+        if (!bp.overlaps_flat(bq)) return;
         const int32_t* fp = F + 3 * static_cast<size_t>(c.first);
         const int32_t* fq = F + 3 * static_cast<size_t>(c.second);
+        const uint32_t op = face_owns_[c.first], oq = face_owns_[c.second];
         auto in = [](const int32_t* f, int32_t v) { return f[0] == v || f[1] == v || f[2] == v; };
         for (int k = 0; k < 3; ++k) {
-            if (vertex_owner_[fp[k]] == c.first && !in(fq, fp[k]) && vertex_boxes_[fp[k]].overlaps(face_boxes_[c.second]))
+            if ((op >> k & 1u) && !in(fq, fp[k]) && vertex_boxes_[fp[k]].overlaps_flat(bq))
                 vf_keys.push_back(static_cast<uint64_t>(fp[k]) << 32 | static_cast<uint32_t>(c.second));
-            if (vertex_owner_[fq[k]] == c.second && !in(fp, fq[k]) && vertex_boxes_[fq[k]].overlaps(face_boxes_[c.first]))
+            if ((oq >> k & 1u) && !in(fp, fq[k]) && vertex_boxes_[fq[k]].overlaps_flat(bp))
                 vf_keys.push_back(static_cast<uint64_t>(fq[k]) << 32 | static_cast<uint32_t>(c.first));
         }
+        if (!(op & 0x38u) || !(oq & 0x38u)) return;
         for (int i = 0; i < 3; ++i) {
+            if (!(op >> (3 + i) & 1u)) continue;
             const int32_t ea = FE[3 * c.first + i];
-            if (edge_owner_[ea] != c.first) continue;
             const int32_t a0 = fp[i], a1 = fp[(i + 1) % 3];
+            const Aabb ba = edge_boxes_[ea];
             for (int j = 0; j < 3; ++j) {
+                if (!(oq >> (3 + j) & 1u)) continue;
                 const int32_t eb = FE[3 * c.second + j];
-                if (edge_owner_[eb] != c.second) continue;
                 const int32_t b0 = fq[j], b1 = fq[(j + 1) % 3];
                 if (a0 == b0 || a0 == b1 || a1 == b0 || a1 == b1) continue;
-                if (!edge_boxes_[ea].overlaps(edge_boxes_[eb])) continue;
+                if (!ba.overlaps_flat(edge_boxes_[eb])) continue;
                 ee_keys.push_back(static_cast<uint64_t>(std::min(ea, eb)) << 32 | static_cast<uint32_t>(std::max(ea, eb)));
             }
         }

@@ -130,7 +130,9 @@ class SelfCollider {
     CandidateList candidate_list_;          // the query's candidates: candidates_ or the parallel traversal's
     std::vector<Aabb> vertex_boxes_, edge_boxes_, face_boxes_;  // CCD: swept boxes of primitives
     std::vector<uint64_t> vf_keys_, ee_keys_;
-    std::vector<int32_t> vertex_owner_, edge_owner_;  // CCD: the face that produces a vertex's / edge's pairs
+    // CCD: per face, which of its corners (bits 0-2) and edges (bits 3-5) it owns, i.e. produces
+    // the VF / EE pairs of (collider.cpp, ccd_traverse_and_test).
+    std::vector<uint8_t> face_owns_;
     ProjectionScratch projection_;                     // "sct": projected contour coordinates
 };
 
