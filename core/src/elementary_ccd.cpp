@@ -38,7 +38,42 @@ inline Vec3 corner_value(const MovingTerms& m, double t, double u, double v) {
     return P + u * U + v * W;
 }
 
+// The pending boxes of inclusion_search: a heap ordered by t0 when the first contact time is
+// wanted, else a depth-first stack. Depth-first, a split replaces a box by its two halves and
+// the depth is capped at 3 max_depth, so at most 3 max_depth + 2 boxes are ever pending: they
+// fit in an array on the stack. The exact mode runs this search as a filter on every pair it
+// tests, and a std::vector there cost an allocation and a reallocation or two per pair.
+class BoxStack {
+   public:
+    static constexpr int kMaxDepth = 64;  // CcdOptions::max_depth above this: a std::logic_error
+    explicit BoxStack(bool ordered) : ordered_(ordered) {}
+    bool empty() const { return ordered_ ? heap_.empty() : size_ == 0; }
+    void push(const Box& b) {
+        if (!ordered_) {
+            fixed_[size_++] = b;
+            return;
+        }
+        heap_.push_back(b);
+        std::push_heap(heap_.begin(), heap_.end(), later);
+    }
+    Box pop() {
+        if (!ordered_) return fixed_[--size_];
+        std::pop_heap(heap_.begin(), heap_.end(), later);
+        const Box b = heap_.back();
+        heap_.pop_back();
+        return b;
+    }
+
+   private:
+    static bool later(const Box& p, const Box& q) { return p.t0 > q.t0 || (p.t0 == q.t0 && p.depth < q.depth); }
+    bool ordered_;
+    int size_ = 0;
+    Box fixed_[3 * kMaxDepth + 2];  // uninitialised until pushed
+    std::vector<Box> heap_;         // allocates only when ordered
+};
+
 bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptions& opt, double* first_t = nullptr) {
+    if (opt.max_depth > BoxStack::kMaxDepth) throw std::logic_error("inclusion_search: max_depth above 64");
     // |P|, |U|, |W| <= scale at t = 0, 1, so every intermediate is below 9 scale (|t|, |u|,
     // |v| <= 1). Each of the ~10 roundings on the longest chain adds at most eps * 9 scale, and
     // the rounded input differences (relative error eps) carry at most 9 eps scale through the
@@ -46,21 +81,25 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
     const double err = 256.0 * kEps * m.scale;
     // Depth-first for a yes/no answer; ordered by t0 when the first contact time is wanted
     // (then every box with a smaller t0 has been excluded when one is reported).
-    std::vector<Box> stack;
-    stack.push_back({0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0});
-    const auto later = [](const Box& p, const Box& q) { return p.t0 > q.t0 || (p.t0 == q.t0 && p.depth < q.depth); };
+    BoxStack stack(first_t != nullptr);
+    stack.push({0.0, 1.0, 0.0, 1.0, 0.0, 1.0, 0});
+    const Vec3 dP = m.P1 - m.P0, dU = m.U1 - m.U0, dW = m.W1 - m.W0;
     int boxes = 0;
     const double tol = std::ldexp(1.0, -opt.max_depth);  // a box this wide in every parameter is undecided
     while (!stack.empty()) {
-        if (first_t) std::pop_heap(stack.begin(), stack.end(), later);
-        const Box b = stack.back();
-        stack.pop_back();
+        const Box b = stack.pop();
         ++boxes;
         if (triangle_domain && b.u0 + b.v0 > 1.0) continue;  // dyadic sums: exact
         double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        Vec3 f[8];  // corner c: t from bit 0, u from bit 1, v from bit 2
+        // F at the corners, corner c: t from bit 0, u from bit 1, v from bit 2. P, U and W at
+        // each end of the box's t-range once (the values corner_value would round, bit for bit).
+        const Vec3 P[2] = {m.P0 + b.t0 * dP, m.P0 + b.t1 * dP};
+        const Vec3 U[2] = {m.U0 + b.t0 * dU, m.U0 + b.t1 * dU};
+        const Vec3 W[2] = {m.W0 + b.t0 * dW, m.W0 + b.t1 * dW};
+        Vec3 f[8];
         for (int c = 0; c < 8; ++c) {
-            f[c] = corner_value(m, c & 1 ? b.t1 : b.t0, c & 2 ? b.u1 : b.u0, c & 4 ? b.v1 : b.v0);
+            const int e = c & 1;
+            f[c] = P[e] + (c & 2 ? b.u1 : b.u0) * U[e] + (c & 4 ? b.v1 : b.v0) * W[e];
             for (int k = 0; k < 3; ++k) {
                 lo[k] = std::min(lo[k], f[c][k]);
                 hi[k] = std::max(hi[k], f[c][k]);
@@ -102,10 +141,8 @@ bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptio
         if (axis == 0) l.t1 = r.t0 = 0.5 * (b.t0 + b.t1);
         if (axis == 1) l.u1 = r.u0 = 0.5 * (b.u0 + b.u1);
         if (axis == 2) l.v1 = r.v0 = 0.5 * (b.v0 + b.v1);
-        stack.push_back(r);
-        if (first_t) std::push_heap(stack.begin(), stack.end(), later);
-        stack.push_back(l);  // depth-first: the earlier (or lower) half first
-        if (first_t) std::push_heap(stack.begin(), stack.end(), later);
+        stack.push(r);
+        stack.push(l);  // depth-first: the earlier (or lower) half first
     }
     return false;
 }
