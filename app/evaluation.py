@@ -12,8 +12,9 @@ Timing protocol: every method has its own collider and walks the frames in order
 pass, so a front method always starts from the front the previous frame left (as in a
 simulation); within a frame the methods take turns, so load on a shared machine hits all alike,
 and each pass starts the turns one method later, so that no method always runs right after the
-same one (whose memory traffic its caches inherit). The first frame of a pass follows a jump (the last frame of the previous pass) and is not
-timed. Per frame the median over passes, then the median over frames. One thread unless told.
+same one (whose memory traffic its caches inherit). The first frame of a pass follows a jump
+(the last frame of the previous pass) and is not timed. Per frame the median over passes, then
+the median over frames. One thread unless told.
 In every pass, every method's result is checked equal, pair for pair, to that of the method
 that ran first in its frame, and on the shared steps exact CCD to the ground truth: a benchmark
 of a wrong answer is worthless.
