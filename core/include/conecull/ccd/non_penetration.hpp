@@ -39,8 +39,7 @@ inline constexpr double kNpfBound1 = 9.0 * kEps, kNpfBound3 = 11.0 * kEps;
 
 // The coplanarity cubic of rows e0 (at t = 0) and e1 (at t = 1). With p0, q0, r0 the rows of e0
 // and p1, q1, r1 those of e1, det[p; q; r] = p . (q x r) is linear in each row, so the
-// coefficients are
-// (the inner two times 3, which keeps their signs)
+// coefficients are (the inner two times 3, which keeps their signs)
 //   c0 = det[p0; q0; r0]                                       = p0 . A
 //   c1 = det[p1; q0; r0] + det[p0; q1; r0] + det[p0; q0; r1]   = p1 . A + p0 . (B + C)
 //   c2 = det[p1; q1; r0] + det[p1; q0; r1] + det[p0; q1; r1]   = p1 . (B + C) + p0 . D
