@@ -7,6 +7,7 @@
 #include "conecull/ccd/ccd_cone.hpp"
 #include "conecull/ccd/contour_test_ccd.hpp"
 #include "conecull/ccd/elementary_ccd.hpp"
+#include "conecull/ccd/interval_filter.hpp"
 
 namespace conecull::bind {
 
@@ -63,6 +64,21 @@ void bind_ccd(py::module_& m) {
         py::arg("ea0_t0"), py::arg("ea1_t0"), py::arg("eb0_t0"), py::arg("eb1_t0"), py::arg("ea0_t1"), py::arg("ea1_t1"),
         py::arg("eb0_t1"), py::arg("eb1_t1"), py::arg("arithmetic"),
         "Edge-edge CCD per row ((k, 3) arrays): contact at some t in [0, 1].");
+    m.def(
+        "time_axis_enclosures",
+        [](const std::string& kind, const F64Array& points) {
+            if (kind != "vf" && kind != "ee") throw py::value_error("kind: expected 'vf' or 'ee', got '" + kind + "'");
+            require_points(points, "points", 8, 3);
+            Vec3 x[8];
+            for (int i = 0; i < 8; ++i) x[i] = row(points, i);
+            const py::ssize_t n = kind == "vf" ? 4 + 5 * 9 : 4 + 5 * 6;
+            py::array_t<double> lo(n), hi(n);
+            time_axis_enclosures(kind == "vf", x, lo.mutable_data(), hi.mutable_data());
+            return py::make_tuple(lo, hi);
+        },
+        py::arg("kind"), py::arg("points"),
+        "The Bernstein enclosures on [0, 1] that exact CCD's time-axis test starts from (interval_filter.hpp): "
+        "(lo, hi), f's 4 coefficients then each condition's 5. points: (8, 3), the test's arguments in order.");
     m.def(
         "triangle_cone_ccd",
         [](const F64Array& a0, const F64Array& b0, const F64Array& c0, const F64Array& a1, const F64Array& b1,

@@ -30,6 +30,7 @@
 // lives on the stack.
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 #include "conecull/ccd/interval_filter.hpp"
 
@@ -59,10 +60,41 @@ Interval divided(const Interval& a, double k) { return Interval::widen(a.lo / k,
 // the subnormal range, where the 2^-1000 term covers it.
 Interval midpoint(const Interval& a, const Interval& b) { return Interval::widen(0.5 * (a.lo + b.lo), 0.5 * (a.hi + b.hi)); }
 
-// Bernstein coefficients b_0..b_D of a polynomial of degree <= D on the current piece.
-template <int D>
+// The setup's arithmetic: a computed value and its permanent (the same expression on the inputs'
+// absolute values, subtractions made additions). Every polynomial of the setup has degree <= 4
+// in the differences q - r of two positions, and those are the only inputs. With coordinates 0
+// or in [2^-128, 2^128] (checked where positions enter), every difference is a multiple of
+// 2^-180 and at most 2^129, and every intermediate is 0 or at least 2^-780 and at most 2^540:
+// no operation underflows or overflows, halving is exact, and each other operation rounds with
+// a relative error of at most u = 2^-53. A term passes at most K = 10 such roundings: the
+// difference (1); Bern<2>'s product and sum (3); cross's subtraction (4); Bern<3>'s product,
+// two sums and division by 3 (8); dot's two sums (10); Bern<4> stops at 9. So |v - exact| <=
+// gamma_10 P (Higham, Sec. 3.1) with P the exact permanent, and the computed permanent
+// p >= P (1 - u)^10. Hence |v - exact| <= 10u / ((1 - 10u)(1 - u)^10) p < 11u (1 - u) p <=
+// fl(11u p): `enclosed` below. Why: rounding each of the setup's ~200 interval products outward
+// took half of exact CCD's time on the n-body step; this takes a product and a permanent's.
+// Tested against fractions in tests/ccd/test_time_axis_enclosures.py.
+struct Approx {
+    double v, p;
+};
+Approx operator+(const Approx& a, const Approx& b) { return {a.v + b.v, a.p + b.p}; }
+Approx operator-(const Approx& a, const Approx& b) { return {a.v - b.v, a.p + b.p}; }
+Approx operator*(const Approx& a, const Approx& b) { return {a.v * b.v, a.p * b.p}; }
+Approx divided(const Approx& a, double k) { return {a.v / k, a.p / k}; }
+Approx midpoint(const Approx& a, const Approx& b) { return {0.5 * (a.v + b.v), 0.5 * (a.p + b.p)}; }
+Interval negated(const Interval& a) { return {-a.hi, -a.lo}; }
+Approx negated(const Approx& a) { return {-a.v, a.p}; }
+// The interval the bound above gives (its own two roundings covered by widen).
+Interval enclosed(const Approx& a) {
+    const double e = a.p * 0x1.6p-50;  // 11 u
+    return Interval::widen(a.v - e, a.v + e);
+}
+
+// Bernstein coefficients b_0..b_D of a polynomial of degree <= D on the current piece: intervals
+// in the search; Approx while the setup builds them (lo, hi and split are the search's).
+template <int D, class T = Interval>
 struct Bern {
-    Interval b[D + 1];
+    T b[D + 1];
     // Hull of the coefficients: contains the polynomial's range on the piece.
     double lo() const {
         double m = b[0].lo;
@@ -90,62 +122,85 @@ struct Bern {
 
 // Products in Bernstein form on [0, 1]: for p = sum a_i B_i^m and q = sum b_j B_j^n,
 // pq = sum_k c_k B_k^(m+n) with c_k = sum_{i+j=k} C(m,i) C(n,j) a_i b_j / C(m+n,k).
-Bern<2> mul(const Bern<1>& a, const Bern<1>& b) {
+template <class T>
+Bern<2, T> mul(const Bern<1, T>& a, const Bern<1, T>& b) {
     return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), a.b[1] * b.b[1]}};
 }
-Bern<3> mul(const Bern<2>& a, const Bern<1>& b) {
-    const Interval c1 = (a.b[1] * b.b[0] + a.b[1] * b.b[0]) + a.b[0] * b.b[1];  // 2 a1 b0 + a0 b1
-    const Interval c2 = a.b[2] * b.b[0] + (a.b[1] * b.b[1] + a.b[1] * b.b[1]);  // a2 b0 + 2 a1 b1
+template <class T>
+Bern<3, T> mul(const Bern<2, T>& a, const Bern<1, T>& b) {
+    const T c1 = (a.b[1] * b.b[0] + a.b[1] * b.b[0]) + a.b[0] * b.b[1];  // 2 a1 b0 + a0 b1
+    const T c2 = a.b[2] * b.b[0] + (a.b[1] * b.b[1] + a.b[1] * b.b[1]);  // a2 b0 + 2 a1 b1
     return {{a.b[0] * b.b[0], divided(c1, 3.0), divided(c2, 3.0), a.b[2] * b.b[1]}};
 }
-Bern<4> mul(const Bern<2>& a, const Bern<2>& b) {
-    const Interval m11 = a.b[1] * b.b[1];
-    const Interval c2 = (a.b[0] * b.b[2] + a.b[2] * b.b[0]) + ((m11 + m11) + (m11 + m11));  // a0 b2 + 4 a1 b1 + a2 b0
+template <class T>
+Bern<4, T> mul(const Bern<2, T>& a, const Bern<2, T>& b) {
+    const T m11 = a.b[1] * b.b[1];
+    const T c2 = (a.b[0] * b.b[2] + a.b[2] * b.b[0]) + ((m11 + m11) + (m11 + m11));  // a0 b2 + 4 a1 b1 + a2 b0
     return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), divided(c2, 6.0),
              midpoint(a.b[1] * b.b[2], a.b[2] * b.b[1]), a.b[2] * b.b[2]}};
 }
-template <int D>
-Bern<D> operator+(const Bern<D>& a, const Bern<D>& b) {
-    Bern<D> r;
+template <int D, class T>
+Bern<D, T> operator+(const Bern<D, T>& a, const Bern<D, T>& b) {
+    Bern<D, T> r;
     for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] + b.b[i];
     return r;
 }
-template <int D>
-Bern<D> operator-(const Bern<D>& a, const Bern<D>& b) {
-    Bern<D> r;
+template <int D, class T>
+Bern<D, T> operator-(const Bern<D, T>& a, const Bern<D, T>& b) {
+    Bern<D, T> r;
     for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] - b.b[i];
     return r;
 }
+template <int D, class T>
+Bern<D, T> negated(const Bern<D, T>& a) {
+    Bern<D, T> r;
+    for (int i = 0; i <= D; ++i) r.b[i] = negated(a.b[i]);
+    return r;
+}
 template <int D>
-Bern<D> negated(const Bern<D>& a) {
+Bern<D> enclosed(const Bern<D, Approx>& a) {
     Bern<D> r;
-    for (int i = 0; i <= D; ++i) r.b[i] = {-a.b[i].hi, -a.b[i].lo};
+    for (int i = 0; i <= D; ++i) r.b[i] = enclosed(a.b[i]);
     return r;
 }
 
 // A moving difference q(t) - r(t), per axis linear: Bernstein coefficients q0 - r0, q1 - r1.
+template <class T>
 struct LinVec {
-    Bern<1> c[3];
+    Bern<1, T> c[3];
 };
+template <class T>
 struct QuadVec {
-    Bern<2> c[3];
+    Bern<2, T> c[3];
 };
-LinVec difference(const Vec3& q0, const Vec3& q1, const Vec3& r0, const Vec3& r1) {
-    LinVec v;
-    for (int k = 0; k < 3; ++k)
-        v.c[k] = {{Interval::widen(q0[k] - r0[k], q0[k] - r0[k]), Interval::widen(q1[k] - r1[k], q1[k] - r1[k])}};
+Interval moving(double d) { return Interval::widen(d, d); }
+Approx moving_approx(double d) { return {d, std::fabs(d)}; }
+template <class T>
+LinVec<T> difference(const Vec3& q0, const Vec3& q1, const Vec3& r0, const Vec3& r1) {
+    LinVec<T> v;
+    for (int k = 0; k < 3; ++k) {
+        if constexpr (std::is_same_v<T, Approx>) v.c[k] = {{moving_approx(q0[k] - r0[k]), moving_approx(q1[k] - r1[k])}};
+        else v.c[k] = {{moving(q0[k] - r0[k]), moving(q1[k] - r1[k])}};
+    }
     return v;
 }
-Bern<2> dot2(const LinVec& a, const LinVec& b, int i, int j) { return mul(a.c[i], b.c[i]) + mul(a.c[j], b.c[j]); }
-QuadVec cross(const LinVec& a, const LinVec& b) {
-    QuadVec r;
+template <class T>
+Bern<2, T> dot2(const LinVec<T>& a, const LinVec<T>& b, int i, int j) {
+    return mul(a.c[i], b.c[i]) + mul(a.c[j], b.c[j]);
+}
+template <class T>
+QuadVec<T> cross(const LinVec<T>& a, const LinVec<T>& b) {
+    QuadVec<T> r;
     for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
         r.c[k] = mul(a.c[i], b.c[j]) - mul(a.c[j], b.c[i]);
     }
     return r;
 }
-Bern<3> dot(const QuadVec& a, const LinVec& b) { return mul(a.c[0], b.c[0]) + mul(a.c[1], b.c[1]) + mul(a.c[2], b.c[2]); }
+template <class T>
+Bern<3, T> dot(const QuadVec<T>& a, const LinVec<T>& b) {
+    return mul(a.c[0], b.c[0]) + mul(a.c[1], b.c[1]) + mul(a.c[2], b.c[2]);
+}
 
 // Depth-first over pieces of [0, 1], left to right. A piece is done when f != 0 on it or a
 // condition h < 0 on it (no contact there); a contact is proven on a piece where f takes
@@ -196,44 +251,86 @@ TimeAxisVerdict search_unit(const Bern<DF>& f0, const Bern<DH> (&h0)[N], int bud
     return TimeAxisVerdict::kApart;
 }
 
+// The enclosures on [0, 1] the searches start from.
+struct VertexFaceStart {
+    Bern<3> f;
+    Bern<4> h[9];
+};
+VertexFaceStart vertex_face_start(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
+                                  const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    VertexFaceStart s;
+    using A = Approx;  // the setup's arithmetic (above), enclosed once at the end
+    const LinVec<A> ba = difference<A>(b0, b1, a0, a1), ca = difference<A>(c0, c1, a0, a1),
+                    pa = difference<A>(p0, p1, a0, a1);
+    const LinVec<A> cb = difference<A>(c0, c1, b0, b1), pb = difference<A>(p0, p1, b0, b1);
+    const LinVec<A> ac = difference<A>(a0, a1, c0, c1), pc = difference<A>(p0, p1, c0, c1);
+    const QuadVec<A> n = cross(ba, ca);
+    s.f = enclosed(dot(n, pa));
+    const QuadVec<A> o[3] = {cross(ba, pa), cross(cb, pb), cross(ac, pc)};
+    for (int i = 0; i < 3; ++i)  // h[3 i + k] = o_i,k n_k
+        for (int k = 0; k < 3; ++k) s.h[3 * i + k] = enclosed(mul(o[i].c[k], n.c[k]));
+    return s;
+}
+struct EdgeEdgeStart {
+    Bern<3> f;
+    Bern<4> h[6];
+};
+EdgeEdgeStart edge_edge_start(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
+                              const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    EdgeEdgeStart s;
+    using A = Approx;  // the setup's arithmetic (above), enclosed once at the end
+    const LinVec<A> ba = difference<A>(b0, b1, a0, a1), dc = difference<A>(d0, d1, c0, c1),
+                    ca = difference<A>(c0, c1, a0, a1);
+    const LinVec<A> da = difference<A>(d0, d1, a0, a1), ac = difference<A>(a0, a1, c0, c1),
+                    bc = difference<A>(b0, b1, c0, c1);
+    s.f = enclosed(dot(cross(ba, dc), ca));
+    const QuadVec<A> T1 = cross(ba, ca), T2 = cross(ba, da), T3 = cross(dc, ac), T4 = cross(dc, bc);
+    for (int k = 0; k < 3; ++k) {  // h[2 k] = -(T1 T2)_k, h[2 k + 1] = -(T3 T4)_k
+        s.h[2 * k] = enclosed(negated(mul(T1.c[k], T2.c[k])));
+        s.h[2 * k + 1] = enclosed(negated(mul(T3.c[k], T4.c[k])));
+    }
+    return s;
+}
+
+template <int DF, int DH, int N>
+void flatten(const Bern<DF>& f, const Bern<DH> (&h)[N], double* lo, double* hi) {
+    for (int i = 0; i <= DF; ++i) *lo++ = f.b[i].lo, *hi++ = f.b[i].hi;
+    for (int j = 0; j < N; ++j)
+        for (int i = 0; i <= DH; ++i) *lo++ = h[j].b[i].lo, *hi++ = h[j].b[i].hi;
+}
+
 }  // namespace
+
+void time_axis_enclosures(bool vertex_face, const Vec3 (&x)[8], double* lo, double* hi) {
+    if (vertex_face) {
+        const VertexFaceStart s = vertex_face_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
+        flatten(s.f, s.h, lo, hi);
+    } else {
+        const EdgeEdgeStart s = edge_edge_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
+        flatten(s.f, s.h, lo, hi);
+    }
+}
 
 TimeAxisVerdict vertex_face_time_axis(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                                       const Vec3& a1, const Vec3& b1, const Vec3& c1, int budget) {
-    const LinVec ba = difference(b0, b1, a0, a1), ca = difference(c0, c1, a0, a1), pa = difference(p0, p1, a0, a1);
-    const LinVec cb = difference(c0, c1, b0, b1), pb = difference(p0, p1, b0, b1);
-    const LinVec ac = difference(a0, a1, c0, c1), pc = difference(p0, p1, c0, c1);
-    const QuadVec n = cross(ba, ca);
-    const Bern<3> f = dot(n, pa);
-    const QuadVec o[3] = {cross(ba, pa), cross(cb, pb), cross(ac, pc)};
-    Bern<4> h[9];  // h[3 i + k] = o_i,k n_k
-    for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) h[3 * i + k] = mul(o[i].c[k], n.c[k]);
+    const VertexFaceStart s = vertex_face_start(p0, a0, b0, c0, p1, a1, b1, c1);
     // p strictly inside: one axis k on which all three o_i,k n_k > 0.
     const auto inside = [](const double* lo) {
         for (int k = 0; k < 3; ++k)
             if (lo[k] > 0.0 && lo[3 + k] > 0.0 && lo[6 + k] > 0.0) return true;
         return false;
     };
-    return search_unit(f, h, budget, inside);
+    return search_unit(s.f, s.h, budget, inside);
 }
 
 TimeAxisVerdict edge_edge_time_axis(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
                                     const Vec3& b1, const Vec3& c1, const Vec3& d1, int budget) {
-    const LinVec ba = difference(b0, b1, a0, a1), dc = difference(d0, d1, c0, c1), ca = difference(c0, c1, a0, a1);
-    const LinVec da = difference(d0, d1, a0, a1), ac = difference(a0, a1, c0, c1), bc = difference(b0, b1, c0, c1);
-    const Bern<3> f = dot(cross(ba, dc), ca);
-    const QuadVec T1 = cross(ba, ca), T2 = cross(ba, da), T3 = cross(dc, ac), T4 = cross(dc, bc);
-    Bern<4> h[6];  // h[2 k] = -(T1 T2)_k, h[2 k + 1] = -(T3 T4)_k
-    for (int k = 0; k < 3; ++k) {
-        h[2 * k] = negated(mul(T1.c[k], T2.c[k]));
-        h[2 * k + 1] = negated(mul(T3.c[k], T4.c[k]));
-    }
+    const EdgeEdgeStart s = edge_edge_start(a0, b0, c0, d0, a1, b1, c1, d1);
     // c, d strictly on opposite sides of line ab (some axis), and a, b of line cd (some axis).
     const auto crossing = [](const double* lo) {
         return (lo[0] > 0.0 || lo[2] > 0.0 || lo[4] > 0.0) && (lo[1] > 0.0 || lo[3] > 0.0 || lo[5] > 0.0);
     };
-    return search_unit(f, h, budget, crossing);
+    return search_unit(s.f, s.h, budget, crossing);
 }
 
 TimeAxisVerdict vertex_segment_planar_contact(const Vec3& q0, const Vec3& x0, const Vec3& y0, const Vec3& q1,
@@ -244,8 +341,9 @@ TimeAxisVerdict vertex_segment_planar_contact(const Vec3& q0, const Vec3& x0, co
     while (k < 3 && !(q0[k] == x0[k] && q0[k] == y0[k] && q1[k] == x1[k] && q1[k] == y1[k])) ++k;
     if (k == 3) return TimeAxisVerdict::kUnknown;
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    const LinVec yx = difference(y0, y1, x0, x1), qx = difference(q0, q1, x0, x1);
-    const LinVec xy = difference(x0, x1, y0, y1), qy = difference(q0, q1, y0, y1);
+    using I = Interval;
+    const LinVec<I> yx = difference<I>(y0, y1, x0, x1), qx = difference<I>(q0, q1, x0, x1);
+    const LinVec<I> xy = difference<I>(x0, x1, y0, y1), qy = difference<I>(q0, q1, y0, y1);
     // g = (y - x) x (q - x) in the plane: q on the line xy iff g = 0 (given x != y). On that
     // line q = x + s (y - x), and (q - x).(y - x) = s |y - x|^2 > 0 with
     // (q - y).(x - y) = (1 - s) |y - x|^2 > 0 give s in (0, 1): q inside the segment.
