@@ -109,6 +109,8 @@ class ccd:
     @staticmethod
     def edge_edge_ccd_rows(ea0_t0: F64, ea1_t0: F64, eb0_t0: F64, eb1_t0: F64, ea0_t1: F64, ea1_t1: F64, eb0_t1: F64,
                            eb1_t1: F64, arithmetic: str) -> Bool: ...
+    @staticmethod
+    def time_axis_enclosures(kind: str, points: F64) -> tuple[F64, F64]: ...
 
 class elementary:
     @staticmethod
