@@ -12,6 +12,7 @@ from math import comb
 import numpy as np
 import pytest
 
+import exact_twin as ex
 from conecull._core import ccd as C
 
 
@@ -45,22 +46,6 @@ def dot(a, b):
 def bern_value(c, t):
     n = len(c) - 1
     return sum(comb(n, i) * c[i] * t**i * (1 - t) ** (n - i) for i in range(n + 1))
-
-
-def at(p0, p1, t):
-    return [Fr(p0[k]) + t * (Fr(p1[k]) - Fr(p0[k])) for k in range(3)]
-
-
-def vsub(a, b):
-    return [x - y for x, y in zip(a, b)]
-
-
-def vcross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-
-
-def vdot(a, b):
-    return sum(x * y for x, y in zip(a, b))
 
 
 def exact_vf(x):
@@ -131,17 +116,18 @@ def test_twin_coefficients_are_the_polynomials(kind):
         x = rng.uniform(-2, 2, (8, 3))
         polys = check(kind, x)
         for t in (Fr(0), Fr(1, 3), Fr(1, 2), Fr(1)):
-            P = [at(x[i], x[i + 4], t) for i in range(4)]
+            P = [ex.lerp(x[i], x[i + 4], t) for i in range(4)]
             if kind == "vf":
                 p, a, b, c = P
-                n = vcross(vsub(b, a), vsub(c, a))
-                o = [vcross(vsub(b, a), vsub(p, a)), vcross(vsub(c, b), vsub(p, b)), vcross(vsub(a, c), vsub(p, c))]
-                direct = [vdot(n, vsub(p, a))] + [o[i][k] * n[k] for i in range(3) for k in range(3)]
+                n = ex.cross(ex.sub(b, a), ex.sub(c, a))
+                o = [ex.cross(ex.sub(b, a), ex.sub(p, a)), ex.cross(ex.sub(c, b), ex.sub(p, b)),
+                     ex.cross(ex.sub(a, c), ex.sub(p, c))]
+                direct = [ex.dot(n, ex.sub(p, a))] + [o[i][k] * n[k] for i in range(3) for k in range(3)]
             else:
                 a, b, c, d = P
-                T1, T2 = vcross(vsub(b, a), vsub(c, a)), vcross(vsub(b, a), vsub(d, a))
-                T3, T4 = vcross(vsub(d, c), vsub(a, c)), vcross(vsub(d, c), vsub(b, c))
-                direct = [vdot(vcross(vsub(b, a), vsub(d, c)), vsub(c, a))]
+                T1, T2 = ex.cross(ex.sub(b, a), ex.sub(c, a)), ex.cross(ex.sub(b, a), ex.sub(d, a))
+                T3, T4 = ex.cross(ex.sub(d, c), ex.sub(a, c)), ex.cross(ex.sub(d, c), ex.sub(b, c))
+                direct = [ex.dot(ex.cross(ex.sub(b, a), ex.sub(d, c)), ex.sub(c, a))]
                 for k in range(3):
                     direct += [-T1[k] * T2[k], -T3[k] * T4[k]]
             assert [bern_value(c, t) for c in polys] == direct
