@@ -65,14 +65,21 @@ Interval midpoint(const Interval& a, const Interval& b) { return Interval::widen
 // or in [2^-128, 2^128] (checked where positions enter), every difference is a multiple of
 // 2^-180 and at most 2^129, and every intermediate is 0 or at least 2^-780 and at most 2^540:
 // no operation underflows or overflows, halving is exact, and each other operation rounds with
-// a relative error of at most u = 2^-53. A term passes at most K = 10 such roundings: the
-// difference (1); Bern<2>'s product and sum (3); cross's subtraction (4); Bern<3>'s product,
-// two sums and division by 3 (8); dot's two sums (10); Bern<4> stops at 9. So |v - exact| <=
-// gamma_10 P (Higham, Sec. 3.1) with P the exact permanent, and the computed permanent
-// p >= P (1 - u)^10. Hence |v - exact| <= 10u / ((1 - 10u)(1 - u)^10) p < 11u (1 - u) p <=
-// fl(11u p): `enclosed` below. Why: rounding each of the setup's ~200 interval products outward
-// took half of exact CCD's time on the n-body step; here each costs two plain products.
-// Tested against fractions in tests/ccd/test_time_axis_enclosures.py.
+// a relative error of at most u = 2^-53. Expanded into monomials of the exact differences, each
+// coefficient's monomials carry at most K factors (1 + delta), |delta| <= u: a difference
+// brings one, a sum or difference of two values one more than the larger count, a product the
+// counts of both factors plus one (Higham, Lemma 3.3: the factors' errors multiply, so a
+// product of four rounded differences carries 7, not the 3 of its longest path). `Roundings`
+// below makes the compiler count K for the very expressions the setup computes (15: f 12, the
+// conditions 15, counting x + x as a rounding) and the build fails if a change makes it exceed
+// kSetupRoundings. So |v - exact| <= gamma_K P (Higham, Sec. 3.1) with P the exact permanent,
+// and the computed permanent p >= P (1 - u)^K. For K <= 15, as 16 (1 - 15u)(1 - u)^15 > 15:
+// |v - exact| <= 15u / ((1 - 15u)(1 - u)^15) p < 16u p = 2^-49 p, an exact product:
+// `enclosed` below. Why: rounding each of the setup's ~200 interval products outward took half
+// of exact CCD's time on the n-body step; here each costs two plain products. (Until the
+// twenty-seventh session this comment counted the roundings along one path, K = 10, and the
+// bound was 11u p: too small in the worst case.) Tested against fractions in
+// tests/ccd/test_time_axis_enclosures.py.
 struct Approx {
     double v, p;
 };
@@ -83,9 +90,21 @@ Approx divided(const Approx& a, double k) { return {a.v / k, a.p / k}; }
 Approx midpoint(const Approx& a, const Approx& b) { return {0.5 * (a.v + b.v), 0.5 * (a.p + b.p)}; }
 Interval negated(const Interval& a) { return {-a.hi, -a.lo}; }
 Approx negated(const Approx& a) { return {-a.v, a.p}; }
+// The rounding counts of the proof above: a coefficient's most (1 + delta) factors on any of its
+// monomials. Only the compiler evaluates these (static_assert below).
+struct Roundings {
+    int k;
+};
+constexpr Roundings operator+(Roundings a, Roundings b) { return {std::max(a.k, b.k) + 1}; }
+constexpr Roundings operator-(Roundings a, Roundings b) { return {std::max(a.k, b.k) + 1}; }
+constexpr Roundings operator*(Roundings a, Roundings b) { return {a.k + b.k + 1}; }
+constexpr Roundings divided(Roundings a, double) { return {a.k + 1}; }
+constexpr Roundings midpoint(Roundings a, Roundings b) { return {std::max(a.k, b.k) + 1}; }  // halving exact
+constexpr Roundings negated(Roundings a) { return a; }
+constexpr int kSetupRoundings = 15;  // the K that `enclosed`'s 16u covers
 // The interval the bound above gives (its own two roundings covered by widen).
 Interval enclosed(const Approx& a) {
-    const double e = a.p * 0x1.6p-50;  // 11 u
+    const double e = a.p * 0x1p-49;  // 16 u, exact: a power of two
     return Interval::widen(a.v - e, a.v + e);
 }
 
@@ -122,37 +141,37 @@ struct Bern {
 // Products in Bernstein form on [0, 1]: for p = sum a_i B_i^m and q = sum b_j B_j^n,
 // pq = sum_k c_k B_k^(m+n) with c_k = sum_{i+j=k} C(m,i) C(n,j) a_i b_j / C(m+n,k).
 template <class T>
-Bern<2, T> mul(const Bern<1, T>& a, const Bern<1, T>& b) {
+constexpr Bern<2, T> mul(const Bern<1, T>& a, const Bern<1, T>& b) {
     return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), a.b[1] * b.b[1]}};
 }
 template <class T>
-Bern<3, T> mul(const Bern<2, T>& a, const Bern<1, T>& b) {
+constexpr Bern<3, T> mul(const Bern<2, T>& a, const Bern<1, T>& b) {
     const T c1 = (a.b[1] * b.b[0] + a.b[1] * b.b[0]) + a.b[0] * b.b[1];  // 2 a1 b0 + a0 b1
     const T c2 = a.b[2] * b.b[0] + (a.b[1] * b.b[1] + a.b[1] * b.b[1]);  // a2 b0 + 2 a1 b1
     return {{a.b[0] * b.b[0], divided(c1, 3.0), divided(c2, 3.0), a.b[2] * b.b[1]}};
 }
 template <class T>
-Bern<4, T> mul(const Bern<2, T>& a, const Bern<2, T>& b) {
+constexpr Bern<4, T> mul(const Bern<2, T>& a, const Bern<2, T>& b) {
     const T m11 = a.b[1] * b.b[1];
     const T c2 = (a.b[0] * b.b[2] + a.b[2] * b.b[0]) + ((m11 + m11) + (m11 + m11));  // a0 b2 + 4 a1 b1 + a2 b0
     return {{a.b[0] * b.b[0], midpoint(a.b[0] * b.b[1], a.b[1] * b.b[0]), divided(c2, 6.0),
              midpoint(a.b[1] * b.b[2], a.b[2] * b.b[1]), a.b[2] * b.b[2]}};
 }
 template <int D, class T>
-Bern<D, T> operator+(const Bern<D, T>& a, const Bern<D, T>& b) {
-    Bern<D, T> r;
+constexpr Bern<D, T> operator+(const Bern<D, T>& a, const Bern<D, T>& b) {
+    Bern<D, T> r{};
     for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] + b.b[i];
     return r;
 }
 template <int D, class T>
-Bern<D, T> operator-(const Bern<D, T>& a, const Bern<D, T>& b) {
-    Bern<D, T> r;
+constexpr Bern<D, T> operator-(const Bern<D, T>& a, const Bern<D, T>& b) {
+    Bern<D, T> r{};
     for (int i = 0; i <= D; ++i) r.b[i] = a.b[i] - b.b[i];
     return r;
 }
 template <int D, class T>
-Bern<D, T> negated(const Bern<D, T>& a) {
-    Bern<D, T> r;
+constexpr Bern<D, T> negated(const Bern<D, T>& a) {
+    Bern<D, T> r{};
     for (int i = 0; i <= D; ++i) r.b[i] = negated(a.b[i]);
     return r;
 }
@@ -186,12 +205,12 @@ LinVec<T> difference(const Vec3& q0, const Vec3& q1, const Vec3& r0, const Vec3&
     return v;
 }
 template <class T>
-Bern<2, T> dot2(const LinVec<T>& a, const LinVec<T>& b, int i, int j) {
+constexpr Bern<2, T> dot2(const LinVec<T>& a, const LinVec<T>& b, int i, int j) {
     return mul(a.c[i], b.c[i]) + mul(a.c[j], b.c[j]);
 }
 template <class T>
-QuadVec<T> cross(const LinVec<T>& a, const LinVec<T>& b) {
-    QuadVec<T> r;
+constexpr QuadVec<T> cross(const LinVec<T>& a, const LinVec<T>& b) {
+    QuadVec<T> r{};
     for (int k = 0; k < 3; ++k) {
         const int i = (k + 1) % 3, j = (k + 2) % 3;
         r.c[k] = mul(a.c[i], b.c[j]) - mul(a.c[j], b.c[i]);
@@ -199,7 +218,7 @@ QuadVec<T> cross(const LinVec<T>& a, const LinVec<T>& b) {
     return r;
 }
 template <class T>
-Bern<3, T> dot(const QuadVec<T>& a, const LinVec<T>& b) {
+constexpr Bern<3, T> dot(const QuadVec<T>& a, const LinVec<T>& b) {
     return mul(a.c[0], b.c[0]) + mul(a.c[1], b.c[1]) + mul(a.c[2], b.c[2]);
 }
 
@@ -252,24 +271,80 @@ TimeAxisVerdict search_unit(const Bern<DF>& f0, const Bern<DH> (&h0)[N], int bud
     return TimeAxisVerdict::kApart;
 }
 
-// The enclosures on [0, 1] the searches start from.
+// The polynomials the searches start from, in any of the arithmetics above: the positions enter
+// as the differences they use.
+template <class T>
+struct VertexFacePolys {
+    Bern<3, T> f;
+    Bern<4, T> h[9];
+};
+template <class T>
+constexpr VertexFacePolys<T> vertex_face_polys(const LinVec<T>& ba, const LinVec<T>& ca, const LinVec<T>& pa,
+                                               const LinVec<T>& cb, const LinVec<T>& pb, const LinVec<T>& ac,
+                                               const LinVec<T>& pc) {
+    VertexFacePolys<T> s{};
+    const QuadVec<T> n = cross(ba, ca);
+    s.f = dot(n, pa);
+    const QuadVec<T> o[3] = {cross(ba, pa), cross(cb, pb), cross(ac, pc)};
+    for (int i = 0; i < 3; ++i)  // h[3 i + k] = o_i,k n_k
+        for (int k = 0; k < 3; ++k) s.h[3 * i + k] = mul(o[i].c[k], n.c[k]);
+    return s;
+}
+template <class T>
+struct EdgeEdgePolys {
+    Bern<3, T> f;
+    Bern<4, T> h[6];
+};
+template <class T>
+constexpr EdgeEdgePolys<T> edge_edge_polys(const LinVec<T>& ba, const LinVec<T>& dc, const LinVec<T>& ca,
+                                           const LinVec<T>& da, const LinVec<T>& ac, const LinVec<T>& bc) {
+    EdgeEdgePolys<T> s{};
+    s.f = dot(cross(ba, dc), ca);
+    const QuadVec<T> T1 = cross(ba, ca), T2 = cross(ba, da), T3 = cross(dc, ac), T4 = cross(dc, bc);
+    for (int k = 0; k < 3; ++k) {  // h[2 k] = -(T1 T2)_k, h[2 k + 1] = -(T3 T4)_k
+        s.h[2 * k] = negated(mul(T1.c[k], T2.c[k]));
+        s.h[2 * k + 1] = negated(mul(T3.c[k], T4.c[k]));
+    }
+    return s;
+}
+
+// The proof's K, counted by the compiler on the expressions above: every difference one rounding.
+template <class Polys>
+constexpr int most_roundings(const Polys& s) {
+    int k = 0;
+    for (const Roundings& c : s.f.b) k = std::max(k, c.k);
+    for (const auto& h : s.h)
+        for (const Roundings& c : h.b) k = std::max(k, c.k);
+    return k;
+}
+constexpr LinVec<Roundings> kDifference{{{{{1}, {1}}}, {{{1}, {1}}}, {{{1}, {1}}}}};
+constexpr int kVertexFaceRoundings = most_roundings(
+    vertex_face_polys(kDifference, kDifference, kDifference, kDifference, kDifference, kDifference, kDifference));
+constexpr int kEdgeEdgeRoundings = most_roundings(
+    edge_edge_polys(kDifference, kDifference, kDifference, kDifference, kDifference, kDifference));
+static_assert(kVertexFaceRoundings <= kSetupRoundings && kEdgeEdgeRoundings <= kSetupRoundings,
+              "the setup rounds more often than enclosed()'s bound covers: rederive its constant");
+
+// The enclosures on [0, 1] the searches start from: the polynomials in the setup's arithmetic
+// (above), each coefficient enclosed once at the end.
+template <int D, int N>
+void enclose_all(const Bern<D, Approx> (&a)[N], Bern<D> (&r)[N]) {
+    for (int i = 0; i < N; ++i) r[i] = enclosed(a[i]);
+}
 struct VertexFaceStart {
     Bern<3> f;
     Bern<4> h[9];
 };
 VertexFaceStart vertex_face_start(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                                   const Vec3& a1, const Vec3& b1, const Vec3& c1) {
+    using A = Approx;
+    const VertexFacePolys<A> x =
+        vertex_face_polys(difference<A>(b0, b1, a0, a1), difference<A>(c0, c1, a0, a1), difference<A>(p0, p1, a0, a1),
+                          difference<A>(c0, c1, b0, b1), difference<A>(p0, p1, b0, b1), difference<A>(a0, a1, c0, c1),
+                          difference<A>(p0, p1, c0, c1));
     VertexFaceStart s;
-    using A = Approx;  // the setup's arithmetic (above), enclosed once at the end
-    const LinVec<A> ba = difference<A>(b0, b1, a0, a1), ca = difference<A>(c0, c1, a0, a1),
-                    pa = difference<A>(p0, p1, a0, a1);
-    const LinVec<A> cb = difference<A>(c0, c1, b0, b1), pb = difference<A>(p0, p1, b0, b1);
-    const LinVec<A> ac = difference<A>(a0, a1, c0, c1), pc = difference<A>(p0, p1, c0, c1);
-    const QuadVec<A> n = cross(ba, ca);
-    s.f = enclosed(dot(n, pa));
-    const QuadVec<A> o[3] = {cross(ba, pa), cross(cb, pb), cross(ac, pc)};
-    for (int i = 0; i < 3; ++i)  // h[3 i + k] = o_i,k n_k
-        for (int k = 0; k < 3; ++k) s.h[3 * i + k] = enclosed(mul(o[i].c[k], n.c[k]));
+    s.f = enclosed(x.f);
+    enclose_all(x.h, s.h);
     return s;
 }
 struct EdgeEdgeStart {
@@ -278,18 +353,13 @@ struct EdgeEdgeStart {
 };
 EdgeEdgeStart edge_edge_start(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
                               const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    using A = Approx;
+    const EdgeEdgePolys<A> x =
+        edge_edge_polys(difference<A>(b0, b1, a0, a1), difference<A>(d0, d1, c0, c1), difference<A>(c0, c1, a0, a1),
+                        difference<A>(d0, d1, a0, a1), difference<A>(a0, a1, c0, c1), difference<A>(b0, b1, c0, c1));
     EdgeEdgeStart s;
-    using A = Approx;  // the setup's arithmetic (above), enclosed once at the end
-    const LinVec<A> ba = difference<A>(b0, b1, a0, a1), dc = difference<A>(d0, d1, c0, c1),
-                    ca = difference<A>(c0, c1, a0, a1);
-    const LinVec<A> da = difference<A>(d0, d1, a0, a1), ac = difference<A>(a0, a1, c0, c1),
-                    bc = difference<A>(b0, b1, c0, c1);
-    s.f = enclosed(dot(cross(ba, dc), ca));
-    const QuadVec<A> T1 = cross(ba, ca), T2 = cross(ba, da), T3 = cross(dc, ac), T4 = cross(dc, bc);
-    for (int k = 0; k < 3; ++k) {  // h[2 k] = -(T1 T2)_k, h[2 k + 1] = -(T3 T4)_k
-        s.h[2 * k] = enclosed(negated(mul(T1.c[k], T2.c[k])));
-        s.h[2 * k + 1] = enclosed(negated(mul(T3.c[k], T4.c[k])));
-    }
+    s.f = enclosed(x.f);
+    enclose_all(x.h, s.h);
     return s;
 }
 

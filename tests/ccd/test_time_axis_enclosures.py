@@ -1,8 +1,9 @@
 """The enclosures exact CCD's time-axis test starts from (interval_filter.cpp) against an exact
 twin: every Bernstein coefficient of the coplanarity cubic f and of each sign condition h, on
 [0, 1], computed with Python fractions, must lie inside the interval the core computes. The
-core computes these in floating point with one derived error bound per coefficient (11u times
-the permanent, see `Approx` there), so the inputs here stress that bound: heavy cancellation
+core computes these in floating point with one derived error bound per coefficient (16u times
+the permanent, see `Approx` there; the rounding count behind it is checked by the compiler, a
+static_assert there), so the inputs here stress that bound: heavy cancellation
 (large coordinates, tiny differences), both ends of the supported coordinate range (2^-128 and
 2^128), exact zeros and near-coplanar motion."""
 
