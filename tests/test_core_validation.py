@@ -105,6 +105,19 @@ def test_optional_points_and_cones():
     C.merge_cones(axis_tiny, cb, sb, axis, cb, sb)
     with pytest.raises(ValueError, match=r"^sin_q: non-finite value nan at index 0"):
         C.merge_cones(axis, cb, sb, axis, cb, np.array([np.nan]))
+    # A bounded cone must be one the merge can bound: unit axis, cos <= 1, sin >= 0; a full
+    # cone's axis is never read.
+    assert cb[0] > 0
+    with pytest.raises(ValueError, match=r"^axis_q: row 0 has length (2|1\.9999\d*); a bounded cone \(cos_q > 0\) needs a unit axis"):
+        C.merge_cones(axis, cb, sb, 2.0 * axis, cb, sb)
+    with pytest.raises(ValueError, match=r"^axis_p: row 0 has length 0(\.0)?;"):
+        C.merge_cones(0.0 * axis, cb, sb, axis, cb, sb)
+    with pytest.raises(ValueError, match=r"^cos_p: 1\.5 at index 0 is above 1"):
+        C.merge_cones(axis, np.array([1.5]), sb, axis, cb, sb)
+    with pytest.raises(ValueError, match=r"^sin_q: -0\.5 at index 0 is negative"):
+        C.merge_cones(axis, cb, sb, axis, cb, np.array([-0.5]))
+    full_axis, full_cb, full_sb = C.merge_cones(0.0 * axis, np.array([-1.0]), np.array([1.0]), axis, cb, sb)
+    assert full_cb[0] <= 0  # a full cone merges into a full cone, whatever its axis
 
 
 def _in_range(x: float) -> bool:

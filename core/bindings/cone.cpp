@@ -20,6 +20,27 @@ py::dict cone_arrays(const std::vector<NormalCone>& cones) {
 
 namespace {
 
+// A bounded cone (cos > 0) as the merge's rounding analysis assumes it (kConeSlack): a unit axis
+// (up to 16 kEps, the core's own are within 5) and bounds some half-angle can meet, cos <= 1 and
+// sin >= 0. Anything else would merge into a cone that bounds nothing, silently. A full cone's
+// axis and sine are never read.
+void require_bounded_cones(const F64Array& axis, const F64Array& cos_b, const F64Array& sin_b, const char* which) {
+    const std::string w(which);
+    for (py::ssize_t i = 0; i < axis.shape(0); ++i) {
+        const double c = cos_b.data()[i], s = sin_b.data()[i];
+        if (!(c > 0.0)) continue;
+        const double len = norm(row(axis, i));
+        if (!(std::fabs(len - 1.0) <= 16.0 * kEps))
+            throw py::value_error("axis_" + w + ": row " + std::to_string(i) + " has length " + repr(len) +
+                                  "; a bounded cone (cos_" + w + " > 0) needs a unit axis");
+        if (c > 1.0)
+            throw py::value_error("cos_" + w + ": " + repr(c) + " at index " + std::to_string(i) + " is above 1");
+        if (s < 0.0)
+            throw py::value_error("sin_" + w + ": " + repr(s) + " at index " + std::to_string(i) +
+                                  " is negative (a bound on the sine of a half-angle in [0, pi/2))");
+    }
+}
+
 py::tuple split(const std::vector<NormalCone>& cones) {
     const py::dict d = cone_arrays(cones);
     return py::make_tuple(d["axis"], d["cos_bound"], d["sin_bound"]);
@@ -57,6 +78,8 @@ void bind_cone(py::module_& m) {
             require_finite(sin_p, "sin_p");
             require_finite(cos_q, "cos_q");
             require_finite(sin_q, "sin_q");
+            require_bounded_cones(axis_p, cos_p, sin_p, "p");
+            require_bounded_cones(axis_q, cos_q, sin_q, "q");
             std::vector<NormalCone> out(k);
             for (py::ssize_t i = 0; i < k; ++i) {
                 NormalCone p{row(axis_p, i), cos_p.data()[i], sin_p.data()[i]};
@@ -66,7 +89,8 @@ void bind_cone(py::module_& m) {
             return split(out);
         },
         py::arg("axis_p"), py::arg("cos_p"), py::arg("sin_p"), py::arg("axis_q"), py::arg("cos_q"), py::arg("sin_q"),
-        "Merge cones row by row: returns (axis, cos_bound, sin_bound).");
+        "Merge cones row by row: returns (axis, cos_bound, sin_bound). A bounded cone (cos > 0) needs a unit "
+        "axis, cos <= 1 and sin >= 0 (ValueError otherwise); a full cone's axis and sine are not read.");
 }
 
 }  // namespace conecull::bind

@@ -75,9 +75,11 @@ class BoxStack {
 bool inclusion_search(const MovingTerms& m, bool triangle_domain, const CcdOptions& opt, double* first_t = nullptr) {
     if (opt.max_depth > BoxStack::kMaxDepth) throw std::logic_error("inclusion_search: max_depth above 64");
     // |P|, |U|, |W| <= scale at t = 0, 1, so every intermediate is below 9 scale (|t|, |u|,
-    // |v| <= 1). Each of the ~10 roundings on the longest chain adds at most eps * 9 scale, and
-    // the rounded input differences (relative error eps) carry at most 9 eps scale through the
-    // multilinear form: < 100 eps scale in all; 256 eps scale is the bound used.
+    // |v| <= 1). In absolute terms every rounding of the evaluation adds its own error, not only
+    // those on the longest chain: 13 roundings (three each for P, U and W, the two products and
+    // the two sums), each at most eps * 9 scale, and the rounded input differences (relative
+    // error eps) carry at most 9 eps scale through the multilinear form: < 130 eps scale in all
+    // (a finer count gives 25); 256 eps scale is the bound used.
     const double err = 256.0 * kEps * m.scale;
     // Depth-first for a yes/no answer; ordered by t0 when the first contact time is wanted
     // (then every box with a smaller t0 has been excluded when one is reported).

@@ -70,7 +70,7 @@ struct ZPoint {
 // all of one strict sign prove it for every t. Error: each Z within 18 eps D1 scale of the exact
 // Z* and |Z*| <= (1 + phi) D1 scale (see simplicity_test), so a difference of two Z is within
 // delta = 39.3 eps D1 scale of the exact one, R = 3.24 D1 scale bounding it; a sum of two rounded
-// products within 4 R delta + 4 eps R^2 (1 + O(eps)) < 551 eps (D1 scale)^2 of the exact value:
+// products within 4 R delta + 4 eps R^2 (1 + O(eps)) < 552 eps (D1 scale)^2 of the exact value:
 // `bound` = 1024 eps (D1 scale)^2 covers k0 and k2, and 2 bound the four products of 2 k1
 // (8 R delta + 16 eps R^2 < 1188 eps (D1 scale)^2). The turn is proven iff turn_margin > bound:
 // the margin is the largest of -dot and |cross| (one pose), or, over a step, of the least

@@ -21,9 +21,13 @@ namespace detail {
 int det_sum_sign_exact(const Det3* dets, int m);
 }
 
-// sign(sum_k det[r0; r1; r2]_k). Filter: each rounded determinant is within 7 eps of its
-// permanent (Shewchuk's orient3d bound, entries rounded differences), and summing m of them
-// adds at most (m - 1) eps times the sum of permanents; (8 + m) eps covers both with margin.
+// sign(sum_k det[r0; r1; r2]_k). Filter: a determinant's monomials carry at most 8 rounding
+// factors (a difference each, a product, a difference, the product with the third difference,
+// two sums; a product carries both factors'), and each of the m - 1 further sums one more: the
+// computed sum is within gamma_(7 + m) of the sum of permanents, whose computed value is at
+// least (1 - eps)^(7 + m) of it. (8 + m) eps covers both with margin. (Shewchuk's 7 eps for one
+// orient3d lets the last rounding go free against the computed value; here the last sum of a
+// determinant is not the last operation.)
 template <int M>
 int det_sum_sign(const Det3 (&dets)[M]) {
     static_assert(M >= 1 && M <= 3, "the exact fallback holds up to three determinants");
