@@ -120,7 +120,7 @@ def _scenes():
     return [("fold", F, P, (28, 29)), ("crumple", G, Q, (24, 29)), ("roll", R, S, (15, 29))]
 
 
-@pytest.mark.parametrize("method", ["nc", "nc+front", "sct", "cbc", "aabb"])
+@pytest.mark.parametrize("method", ["nc", "nc+front", "sct", "cbc", "aabb", "aabb+front"])
 def test_every_dcd_collision_is_explained_by_nodes_not_culled(method):
     """Each colliding pair's sentence names the smallest node holding both triangles, and no node
     on its path to the root was culled by the trace's own verdicts (culling one would have lost
