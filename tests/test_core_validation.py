@@ -6,6 +6,7 @@ now relies on the same check). Before, they answered anyway: a sign, a verdict, 
 import numpy as np
 import pytest
 
+import exact_twin as ex
 from conecull import _core as core
 from conecull._core import ccd as CC, cone as C, contour as CT, elementary as E, predicates as P
 
@@ -79,7 +80,7 @@ def test_zero_and_range_ends_are_accepted():
     for v in (0.0, -0.0, 2.0**-128, -(2.0**-128), 2.0**128, -(2.0**128)):
         a = [p.copy() for p in pts]
         a[3][0, 2] = v
-        P.orient3d(*a)
+        assert P.orient3d(*a)[0] == ex.orient3d(*(p[0] for p in a)), v  # and the sign is exact
 
 
 def test_triangle_pairs_name_the_pair_and_corner():

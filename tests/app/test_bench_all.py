@@ -392,7 +392,9 @@ def test_size_labels():
 def test_plots_say_the_thread_count_and_the_real_frames(tmp_path, monkeypatch):
     """Titles name the run's thread count (they said "one thread" under --threads 2); a scene under
     1000 triangles is not "0K"; Fig. 11 and Fig. 1 plot against the scene's own frame numbers."""
-    matplotlib = pytest.importorskip("matplotlib")
+    from shared_data import import_or_skip
+
+    matplotlib = import_or_skip("matplotlib", "the benchmark's plots")
     matplotlib.use("Agg")
     from matplotlib.figure import Figure
 

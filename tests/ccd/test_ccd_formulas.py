@@ -5,7 +5,7 @@ from fractions import Fraction as Fr
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import assume, given, settings, strategies as st
 
 import exact_twin as ex
 from conecull._core import ccd as C
@@ -223,8 +223,7 @@ def moving_triangles(draw):
 def test_ccd_cone_holds_the_normal_for_every_t(tri):
     T0, T1 = tri
     axis, cb, sb = C.triangle_cone_ccd(*[np.array([p]) for p in (*T0, *T1)])
-    if cb[0] <= 0:
-        return
+    assume(cb[0] > 0)  # a full cone claims nothing (Hypothesis fails the test if most are full)
     a = ex.fr3(axis[0])
     cb2 = Fr(float(cb[0])) ** 2
     for t in TS + [Fr(1, 1000), Fr(999, 1000)]:

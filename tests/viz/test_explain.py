@@ -66,14 +66,19 @@ def test_refuses_an_untraced_result(sheets):
         explain_node(col, col.dcd(P[-1]), 0)
 
 
-@pytest.mark.parametrize("node,match", [
-    (1.5, r"node: expected an integer node id in 0\.\.198, got 1\.5"),
-    ("3", r"node: expected an integer node id in 0\.\.198, got '3'"),
-    (199, r"^node: 199 is out of range: the BVH has nodes 0\.\.198"),
+@pytest.mark.parametrize("node,match", [  # {last}: the BVH's last node id
+    (1.5, r"node: expected an integer node id in 0\.\.{last}, got 1\.5"),
+    ("3", r"node: expected an integer node id in 0\.\.{last}, got '3'"),
+    ("last+1", r"^node: {last+1} is out of range: the BVH has nodes 0\.\.{last}"),
     (-1, r"^node: -1 is out of range"),
 ])
 def test_names_a_bad_node(sheets, node, match):
     col, res, _ = sheets[0]
+    last = len(col.bvh_arrays()["begin"]) - 1
+    assert last > 0
+    if node == "last+1":
+        node = last + 1
+    match = match.replace("{last+1}", str(last + 1)).replace("{last}", str(last))
     with pytest.raises(ValueError, match=match):  # `node`, the Python name: the CLI says --node
         explain_node(col, res, node)
 
@@ -278,19 +283,38 @@ def test_a_pair_not_colliding_says_whether_it_was_tested():
                                                                "of nodes holding them, were apart.")
         untested += 1
     assert untested
+    # CCD: a vertex-face test that found no contact; a triangle g at the vertex and the face f
+    # either touch through another of their tests, or not, and then the sentence says which ran.
     ccd = col.ccd(P[27], P[28], trace=True)
-    v, f = (int(x) for x in ccd.trace.vf["pair"][~ccd.trace.vf["result"]][0])
-    g = int(col.mesh.vertex_faces[1][col.mesh.vertex_faces[0][v]])
-    text = explain_pair(col, ccd, g, f)
-    if "do not touch" in text:
-        assert "tests between them ran and found no contact" in text
+    apart = 0
+    for v, f in ccd.trace.vf["pair"][~ccd.trace.vf["result"]][:20].tolist():
+        g = int(col.mesh.vertex_faces[1][col.mesh.vertex_faces[0][v]])
+        text = explain_pair(col, ccd, g, f)
+        if text.startswith(f"triangles {g} and {f} do not touch during the step"):
+            assert "tests between them ran and found no contact" in text, text
+            apart += 1
+        else:
+            assert text.startswith(f"triangles {g} and {f} touch during the step"), text
+    assert apart
 
 
-def _fold_node(method, frame=28, node=1665):
+def _fold_node(method, frame=28, node=1665, *, facts=False):
+    """explain_node for a node of fold whose contour test runs; with facts, also the number of its
+    contour's edges (counted here from its triangles: the edges only one of them has) and its
+    contour event's crossings."""
     F, P = load_sequence("fold")
     col = conecull.SelfCollider(conecull.Mesh(F), method=method)
     col.dcd(P[0])
-    return explain_node(col, col.dcd(P[frame], trace=True), node)
+    res = col.dcd(P[frame], trace=True)
+    text = explain_node(col, res, node)
+    if not facts:
+        return text
+    bvh = col.bvh_arrays()
+    tris = F[bvh["order"][bvh["begin"][node] : bvh["end"][node]]]
+    edges = np.sort(np.vstack([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+    _, count = np.unique(edges, axis=0, return_counts=True)
+    (event,) = np.flatnonzero(res.trace.contour["node"] == node)
+    return text, int((count == 1).sum()), int(res.trace.contour["crossings"][event])
 
 
 def _crumple_failure(method: str, reason: int) -> str:
@@ -306,9 +330,11 @@ def test_cbc_is_explained_as_its_edge_pair_test():
     """cbc ([TCYM09]) tests every pair of projected contour edges: no kernel point, no ray, no star
     test. Its trace reports the contour's mean as "kernel", a zero ray and 0 crossings, which were
     shown as if tested ("kernel point [...], ray [0, 0, 0], crossings 0 ... star-shaped")."""
-    text = _fold_node("cbc")
-    assert "contour test (cbc, the quadratic edge-pair test of Tang et al. 2009): every pair of the contour's 32 " \
-           "edges, projected along the cone axis, must be proven apart (496 pairs); no kernel point, no ray" in text
+    text, n, _ = _fold_node("cbc", facts=True)
+    assert n >= 3
+    assert "contour test (cbc, the quadratic edge-pair test of Tang et al. 2009): every pair of the contour's " \
+           f"{n} edges, projected along the cone axis, must be proven apart ({n * (n - 1) // 2} pairs); no kernel " \
+           "point, no ray" in text
     assert "verdict: culled, passed: no two edges of the contour, projected along the cone axis, meet" in text
     assert "kernel point [" not in text and "ray [" not in text and "crossings" not in text and "star" not in text
     text = _crumple_failure("cbc", 7)  # a failure names the edge pair test too
@@ -320,10 +346,11 @@ def test_sct_is_explained_as_its_projected_star_test():
     """sct ([SPO10]) projects the contour on the plane perpendicular to the cone axis, finds a kernel
     point there by a line search and runs the star test: its kernel point, ray and crossings are
     shown, as that method's; where the line search found none, no star test is claimed."""
-    text = _fold_node("sct")
-    assert "contour test (sct, the projected star contour test of Schvartzman et al. 2010): the contour's 32 edges " \
-           "projected on the plane perpendicular to the cone axis; kernel point from the line search [" in text
-    assert "crossings 1" in text
+    text, n, crossings = _fold_node("sct", facts=True)
+    assert n >= 3 and crossings == 1  # passed: a ray from a kernel point leaves a star contour once
+    assert "contour test (sct, the projected star contour test of Schvartzman et al. 2010): the contour's " \
+           f"{n} edges projected on the plane perpendicular to the cone axis; kernel point from the line search [" in text
+    assert f"crossings {crossings}" in text
     assert "verdict: culled, passed: the contour, projected on the plane perpendicular to the cone axis, is " \
            "star-shaped around the kernel point the line search found" in text
     text = _crumple_failure("sct", 6)
