@@ -271,13 +271,17 @@ TimeAxisVerdict search_unit(const Bern<DF>& f0, const Bern<DH> (&h0)[N], int bud
     return TimeAxisVerdict::kApart;
 }
 
-// The polynomials the searches start from, in any of the arithmetics above: the positions enter
-// as the differences they use.
-template <class T>
-struct VertexFacePolys {
+// The polynomials the searches start from, the cubic f and N conditions h, in any of the
+// arithmetics above: the positions enter as the differences they use.
+template <class T, int N>
+struct StartPolys {
     Bern<3, T> f;
-    Bern<4, T> h[9];
+    Bern<4, T> h[N];
 };
+template <class T>
+using VertexFacePolys = StartPolys<T, 9>;
+template <class T>
+using EdgeEdgePolys = StartPolys<T, 6>;
 template <class T>
 constexpr VertexFacePolys<T> vertex_face_polys(const LinVec<T>& ba, const LinVec<T>& ca, const LinVec<T>& pa,
                                                const LinVec<T>& cb, const LinVec<T>& pb, const LinVec<T>& ac,
@@ -290,11 +294,6 @@ constexpr VertexFacePolys<T> vertex_face_polys(const LinVec<T>& ba, const LinVec
         for (int k = 0; k < 3; ++k) s.h[3 * i + k] = mul(o[i].c[k], n.c[k]);
     return s;
 }
-template <class T>
-struct EdgeEdgePolys {
-    Bern<3, T> f;
-    Bern<4, T> h[6];
-};
 template <class T>
 constexpr EdgeEdgePolys<T> edge_edge_polys(const LinVec<T>& ba, const LinVec<T>& dc, const LinVec<T>& ca,
                                            const LinVec<T>& da, const LinVec<T>& ac, const LinVec<T>& bc) {
@@ -327,40 +326,27 @@ static_assert(kVertexFaceRoundings <= kSetupRoundings && kEdgeEdgeRoundings <= k
 
 // The enclosures on [0, 1] the searches start from: the polynomials in the setup's arithmetic
 // (above), each coefficient enclosed once at the end.
-template <int D, int N>
-void enclose_all(const Bern<D, Approx> (&a)[N], Bern<D> (&r)[N]) {
-    for (int i = 0; i < N; ++i) r[i] = enclosed(a[i]);
-}
-struct VertexFaceStart {
-    Bern<3> f;
-    Bern<4> h[9];
-};
-VertexFaceStart vertex_face_start(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
-                                  const Vec3& a1, const Vec3& b1, const Vec3& c1) {
-    using A = Approx;
-    const VertexFacePolys<A> x =
-        vertex_face_polys(difference<A>(b0, b1, a0, a1), difference<A>(c0, c1, a0, a1), difference<A>(p0, p1, a0, a1),
-                          difference<A>(c0, c1, b0, b1), difference<A>(p0, p1, b0, b1), difference<A>(a0, a1, c0, c1),
-                          difference<A>(p0, p1, c0, c1));
-    VertexFaceStart s;
+template <int N>
+StartPolys<Interval, N> enclosed(const StartPolys<Approx, N>& x) {
+    StartPolys<Interval, N> s;
     s.f = enclosed(x.f);
-    enclose_all(x.h, s.h);
+    for (int i = 0; i < N; ++i) s.h[i] = enclosed(x.h[i]);
     return s;
 }
-struct EdgeEdgeStart {
-    Bern<3> f;
-    Bern<4> h[6];
-};
-EdgeEdgeStart edge_edge_start(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
-                              const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+VertexFacePolys<Interval> vertex_face_start(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0,
+                                            const Vec3& p1, const Vec3& a1, const Vec3& b1, const Vec3& c1) {
     using A = Approx;
-    const EdgeEdgePolys<A> x =
-        edge_edge_polys(difference<A>(b0, b1, a0, a1), difference<A>(d0, d1, c0, c1), difference<A>(c0, c1, a0, a1),
-                        difference<A>(d0, d1, a0, a1), difference<A>(a0, a1, c0, c1), difference<A>(b0, b1, c0, c1));
-    EdgeEdgeStart s;
-    s.f = enclosed(x.f);
-    enclose_all(x.h, s.h);
-    return s;
+    return enclosed(vertex_face_polys(difference<A>(b0, b1, a0, a1), difference<A>(c0, c1, a0, a1),
+                                      difference<A>(p0, p1, a0, a1), difference<A>(c0, c1, b0, b1),
+                                      difference<A>(p0, p1, b0, b1), difference<A>(a0, a1, c0, c1),
+                                      difference<A>(p0, p1, c0, c1)));
+}
+EdgeEdgePolys<Interval> edge_edge_start(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0,
+                                        const Vec3& a1, const Vec3& b1, const Vec3& c1, const Vec3& d1) {
+    using A = Approx;
+    return enclosed(edge_edge_polys(difference<A>(b0, b1, a0, a1), difference<A>(d0, d1, c0, c1),
+                                    difference<A>(c0, c1, a0, a1), difference<A>(d0, d1, a0, a1),
+                                    difference<A>(a0, a1, c0, c1), difference<A>(b0, b1, c0, c1)));
 }
 
 template <int DF, int DH, int N>
@@ -374,17 +360,17 @@ void flatten(const Bern<DF>& f, const Bern<DH> (&h)[N], double* lo, double* hi) 
 
 void time_axis_enclosures(bool vertex_face, const Vec3 (&x)[8], double* lo, double* hi) {
     if (vertex_face) {
-        const VertexFaceStart s = vertex_face_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
+        const auto s = vertex_face_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
         flatten(s.f, s.h, lo, hi);
     } else {
-        const EdgeEdgeStart s = edge_edge_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
+        const auto s = edge_edge_start(x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7]);
         flatten(s.f, s.h, lo, hi);
     }
 }
 
 TimeAxisVerdict vertex_face_time_axis(const Vec3& p0, const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& p1,
                                       const Vec3& a1, const Vec3& b1, const Vec3& c1, int budget) {
-    const VertexFaceStart s = vertex_face_start(p0, a0, b0, c0, p1, a1, b1, c1);
+    const auto s = vertex_face_start(p0, a0, b0, c0, p1, a1, b1, c1);
     // p strictly inside: one axis k on which all three o_i,k n_k > 0.
     const auto inside = [](const double* lo) {
         for (int k = 0; k < 3; ++k)
@@ -396,7 +382,7 @@ TimeAxisVerdict vertex_face_time_axis(const Vec3& p0, const Vec3& a0, const Vec3
 
 TimeAxisVerdict edge_edge_time_axis(const Vec3& a0, const Vec3& b0, const Vec3& c0, const Vec3& d0, const Vec3& a1,
                                     const Vec3& b1, const Vec3& c1, const Vec3& d1, int budget) {
-    const EdgeEdgeStart s = edge_edge_start(a0, b0, c0, d0, a1, b1, c1, d1);
+    const auto s = edge_edge_start(a0, b0, c0, d0, a1, b1, c1, d1);
     // c, d strictly on opposite sides of line ab (some axis), and a, b of line cd (some axis).
     const auto crossing = [](const double* lo) {
         return (lo[0] > 0.0 || lo[2] > 0.0 || lo[4] > 0.0) && (lo[1] > 0.0 || lo[3] > 0.0 || lo[5] > 0.0);
