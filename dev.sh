@@ -45,6 +45,18 @@ setup() {  # extra arguments go to the final pip install (e.g. CMake defines)
     $pip install -q --no-build-isolation -e ".[test]" "$@"
 }
 
+# A sanitizer build in $VENV (its own venv; the editable build stays as it is), installed (not
+# editable): $1 its build folder, $2 the -fsanitize= flags, $3 further compile flags.
+sanitized_setup() {
+    make_venv
+    local pip="$VENV/bin/python -m pip"
+    $pip install -q --upgrade pip
+    $pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" ninja
+    $pip install -q --no-build-isolation ".[test]" -Cbuild-dir="$1" -Ccmake.build-type=RelWithDebInfo \
+        "-Ccmake.define.CMAKE_CXX_FLAGS=$2 -fno-omit-frame-pointer $3" \
+        "-Ccmake.define.CMAKE_MODULE_LINKER_FLAGS=$2" "-Ccmake.define.CMAKE_SHARED_LINKER_FLAGS=$2"
+}
+
 cmd=${1:-demo}
 shift || true
 case "$cmd" in
@@ -72,14 +84,8 @@ case "$cmd" in
         # installed (not editable) with the core compiled under ASan and UBSan, float-cast
         # overflow and bounds-checked standard containers; every report aborts the test run.
         VENV=.venv-san
-        make_venv
-        pip="$VENV/bin/python -m pip"
-        $pip install -q --upgrade pip
-        $pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" ninja
-        san="-fsanitize=address,undefined,float-cast-overflow"
-        $pip install -q --no-build-isolation ".[test]" -Cbuild-dir=build/sanitize -Ccmake.build-type=RelWithDebInfo \
-            "-Ccmake.define.CMAKE_CXX_FLAGS=$san -fno-sanitize-recover=all -fno-omit-frame-pointer -D_GLIBCXX_ASSERTIONS" \
-            "-Ccmake.define.CMAKE_MODULE_LINKER_FLAGS=$san" "-Ccmake.define.CMAKE_SHARED_LINKER_FLAGS=$san"
+        sanitized_setup build/sanitize "-fsanitize=address,undefined,float-cast-overflow" \
+            "-fno-sanitize-recover=all -D_GLIBCXX_ASSERTIONS"
         # Python is not instrumented: preload the runtimes, and no leak report (CPython's own).
         export LD_PRELOAD="$(gcc -print-file-name=libasan.so) $(gcc -print-file-name=libubsan.so)"
         export ASAN_OPTIONS=detect_leaks=0:abort_on_error=1:halt_on_error=1
@@ -95,13 +101,7 @@ case "$cmd" in
         # own venv and build folder, like sanitize; by default the thread tests (about 5 minutes),
         # or the pytest arguments given. Forking under TSan is not supported: that test is left out.
         VENV=.venv-tsan
-        make_venv
-        pip="$VENV/bin/python -m pip"
-        $pip install -q --upgrade pip
-        $pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" ninja
-        $pip install -q --no-build-isolation ".[test]" -Cbuild-dir=build/tsan -Ccmake.build-type=RelWithDebInfo \
-            "-Ccmake.define.CMAKE_CXX_FLAGS=-fsanitize=thread -fno-omit-frame-pointer" \
-            "-Ccmake.define.CMAKE_MODULE_LINKER_FLAGS=-fsanitize=thread" "-Ccmake.define.CMAKE_SHARED_LINKER_FLAGS=-fsanitize=thread"
+        sanitized_setup build/tsan -fsanitize=thread ""
         export LD_PRELOAD="$(gcc -print-file-name=libtsan.so)"
         export TSAN_OPTIONS=halt_on_error=1:abort_on_error=1:report_signal_unsafe=0
         [ $# -eq 0 ] && set -- tests/traversal/test_threads.py tests/ccd/test_ccd_threads.py
