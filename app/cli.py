@@ -368,7 +368,9 @@ def _check_bench_args(args) -> None:
         from conecull.app.bench import check_skip
 
         check_skip(args.suite, args.skip)
-    writable_folder("--out", args.out)  # last: a refused option leaves no folder behind
+    # Last: a refused option leaves no folder behind. A re-render creates it once its paper.json
+    # has been read and checked (render_from_json).
+    writable_folder("--out", args.out, create=not args.from_json)
 
 
 def _run(args) -> int:

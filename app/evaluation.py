@@ -27,6 +27,7 @@ import io
 import json
 import os
 import platform
+import shutil
 import statistics
 import sys
 import time
@@ -372,6 +373,7 @@ def render_from_json(path: str, out: str) -> int:
     # buffer and printed after the plots, so a bad file prints nothing but the error (the plots
     # read fields the tables do not: scaling's, a KeyError traceback before).
     tables = io.StringIO()
+    created = not os.path.exists(out)  # removed again if the file turns out not to be a paper.json
     try:
         with contextlib.redirect_stdout(tables):
             if results.get("scenes"):
@@ -384,6 +386,8 @@ def render_from_json(path: str, out: str) -> int:
         os.makedirs(out, exist_ok=True)
         plots = _plots(results, out)
     except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError) as e:
+        if created:
+            shutil.rmtree(out, ignore_errors=True)
         raise ValueError(f"{not_paper} (a row lacks or mistypes {e})") from None
     print(tables.getvalue(), end="")
     print(f"Plots: {', '.join(os.path.basename(p) for p in plots) or 'none'} in {out}")

@@ -101,14 +101,23 @@ def writable_file(name: str, path, example: str = "run.rrd") -> str:
     return path
 
 
-def writable_folder(name: str, path) -> str:
+def writable_folder(name: str, path, create: bool = True) -> str:
     """A folder that results can be written into, created now: checked before the work whose
-    results go there."""
+    results go there. create=False: not created yet (by the caller, once its input is checked),
+    so a refused input leaves no folder behind; the nearest existing folder above it must be
+    writable."""
     if not isinstance(path, (str, os.PathLike)) or not os.fspath(path):
         raise ValueError(f"{name}: expected a folder path, got {path!r}")
     path = os.fspath(path)
     if os.path.exists(path) and not os.path.isdir(path):
         raise ValueError(f"{name}: '{path}' exists and is not a folder")
+    if not create and not os.path.exists(path):
+        above = os.path.dirname(os.path.abspath(path))
+        while not os.path.exists(above):
+            above = os.path.dirname(above)
+        if not os.path.isdir(above) or not os.access(above, os.W_OK | os.X_OK):
+            raise ValueError(f"{name}: cannot create folder '{path}' ('{above}' is not a writable folder)")
+        return path
     try:
         os.makedirs(path, exist_ok=True)
     except OSError as e:

@@ -237,6 +237,9 @@ def _ply_header(path: str, header: bytes) -> list:
             elements[-1][2].append((words[4], ("list", words[3])))
         else:
             raise ValueError(f"{path}: header line {raw.strip()!r} is not PLY")
+        if words[0] == "property" and [p for p, _ in elements[-1][2]].count(words[-1]) > 1:
+            raise ValueError(f"{path}: header line {raw.strip()!r}: element '{elements[-1][0]}' already has a "
+                             f"property '{words[-1]}' (which one holds the data?)")
     return elements
 
 

@@ -27,6 +27,9 @@ from conecull.datasets import cloth, generated, skirt, squishy
 from conecull.datasets.checks import count, first_out_of_range, fits_in_memory
 
 CACHE_VERSION = 1
+# load's frame count: a simulated scene takes milliseconds to a second per frame, so a count
+# beyond this is a typo that would run for hours, not a sequence anyone waits for.
+MAX_FRAMES = 10_000
 
 
 @dataclass(frozen=True)
@@ -197,7 +200,7 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
     scene = SCENES[name]
     resolution = count("resolution", scene.default_resolution if resolution is None else resolution, 3)
     frames_given = frames is not None  # a size error names what the caller chose (the CLI sets no frame count)
-    frames = count("frames", scene.default_frames if frames is None else frames, 1)
+    frames = count("frames", scene.default_frames if frames is None else frames, 1, MAX_FRAMES)
     folder = cache_dir()
     if folder.exists() and not folder.is_dir():  # before generating, not after: mkdir would fail there
         source = "CONECULL_CACHE" if os.environ.get("CONECULL_CACHE") else "the cache folder"
@@ -260,8 +263,9 @@ def _read_cached(path: Path, frames: int, n_triangles: int):
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in ("faces", "positions") if k in z.files}
-    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as e:  # truncated, empty, not an npz,
-        raise damaged(str(e) or type(e).__name__) from None  # pickled, a broken deflate stream
+    except (OSError, ValueError, EOFError, OverflowError, zipfile.BadZipFile, zlib.error) as e:  # truncated, empty,
+        raise damaged(str(e) or type(e).__name__) from None  # not an npz, pickled, a broken deflate stream, a shape
+        # beyond int64 in the header
     except MemoryError:  # a damaged header claiming a huge array
         raise damaged("an array larger than this machine's memory") from None
     for k in ("faces", "positions"):

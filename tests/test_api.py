@@ -138,6 +138,16 @@ def test_exact_wider_types_accepted():
                                     np.array([1, 0, 0], np.longdouble), [0, 0, 0], [1, 0, 0], [0, 1, 0])
 
 
+@pytest.mark.filterwarnings("error")
+@pytest.mark.parametrize("big", [np.array([2**64 - 1, 0, 0], np.uint64), np.array([2**63 - 1, 0, 0], np.int64)])
+def test_integers_float64_cannot_hold_are_refused_without_a_warning(big):
+    """2^64 - 1 rounds to 2^64, which the check's cast back to uint64 cannot hold: a RuntimeWarning
+    came before the ValueError (found by review)."""
+    z = np.zeros(3)
+    with pytest.raises(ValueError, match=r"v_t0: some integer coordinates beyond 2\^53 are not exactly float64"):
+        conecull.vertex_face_ccd(big, z, z, z, z, z, z, z)
+
+
 def test_float32_accepted_and_same_result():
     """float32 positions are widened exactly: the same pairs as the same values in float64, on a
     pose that has some."""
@@ -718,7 +728,8 @@ def test_mesh_and_results_pickle_a_collider_refuses():
     c = conecull.SelfCollider(conecull.Mesh(Fb))
     for res in (c.dcd(Vw, trace=True), c.ccd(Vb, Vw, toi=True)):  # results do pickle (from a worker), without their collider
         back = pickle.loads(pickle.dumps(res))
-        assert res.collider() is c and back.collider is None
+        assert res.collider() is c and back.collider() is None
+        assert back.trace is None or back.trace.bvh == c.bvh_digest() is not None
         keys = [k for k in ("pairs", "vf", "ee", "toi") if hasattr(res, k)]
         assert sum(len(getattr(res, k)) for k in keys) > 0
         assert all(np.array_equal(getattr(back, k), getattr(res, k)) for k in keys)

@@ -107,6 +107,16 @@ def check_face(value, n_faces: int, name: str = "face") -> int:
     return int(value)
 
 
+def check_limit(value, name: str = "limit", none_ok: bool = False) -> int | None:
+    """How many items to show: an integer >= 1 (None: all, where allowed). Not a slice bound: -1
+    would silently drop the last item, and 0 print a heading with nothing under it."""
+    if value is None and none_ok:
+        return None
+    if not is_int(value) or value < 1:
+        raise ValueError(f"{name}: expected an integer >= 1{' or None (all)' if none_ok else ''}, got {value!r}")
+    return int(value)
+
+
 def check_host_port(host, port, host_name: str = "host", port_name: str = "port") -> None:
     """Refuse, before the viewer starts, what it cannot serve: its server starts in a thread
     that on such an error dies or retries for ever, while the caller waits for it."""

@@ -10,7 +10,7 @@ import numpy as np
 
 from conecull.normal_spread import Normals, node_spreads, normal_spread
 from conecull.trace import CONE_TOO_WIDE, REASONS, explain
-from conecull.viz.checks import check_face, check_node
+from conecull.viz.checks import check_face, check_limit, check_node
 from conecull.viz.layers import cone_sentence
 
 
@@ -33,10 +33,12 @@ def path_to_root(bvh: dict, node: int, par: np.ndarray | None = None) -> list[in
 
 def check_result(col, res) -> None:
     """res must be a traced query of col itself: node ids mean nothing in another collider's BVH.
-    A result names its collider (res.collider, a weak reference). For a result built by hand
-    (collider None), what the trace shows is compared instead: the method, the BVH's depth (the
-    trace has one level entry per depth) and that every node, face, vertex, edge and contour edge
-    it names exists in col."""
+    A result names its collider (res.collider, a weak reference), and its trace the fingerprint of
+    that collider's BVH (res.trace.bvh, SelfCollider.bvh_digest): a result parted from its
+    collider (unpickled, or the collider gone) is accepted only by a collider with the same BVH.
+    For a result built by hand (no collider, no fingerprint), what the trace shows is compared
+    instead: the method, the BVH's depth (the trace has one level entry per depth) and that every
+    node, face, vertex, edge and contour edge it names exists in col."""
     import conecull
 
     if not isinstance(col, conecull.SelfCollider):
@@ -48,8 +50,14 @@ def check_result(col, res) -> None:
         raise ValueError("col: has no BVH yet (it is built by the first query): run col.dcd(V) first")
     if res.trace is None:
         raise ValueError("res: the query was not traced; run it with trace=True (col.dcd(V, trace=True))")
-    if res.collider is not None and res.collider() is not col:
+    owner = res.collider() if res.collider is not None else None
+    if owner is not None and owner is not col:
         raise ValueError("res: comes from another collider; pass the result of a query of col itself")
+    digest = getattr(res.trace, "bvh", None)
+    if owner is None and digest is not None and digest != col.bvh_digest():
+        raise ValueError("res: was traced on another BVH than col's (a collider of another mesh, or of this mesh "
+                         "built from another first pose), so its node ids name other nodes; pass the result of a "
+                         "query of col itself")
     method = res.stats.get("method")
     if method != col.method:
         raise ValueError(f"res: comes from a query with method {method!r}, but col uses {col.method!r}; "
@@ -181,6 +189,7 @@ def explain_cones(col, res, limit: int = 20) -> str:
     """The nodes whose normal cone failed in a traced query (Alg. 2 line 5), counted by their
     normals' spread (normal_spread), then the largest of them one per line (at most `limit`)."""
     check_result(col, res)
+    limit = check_limit(limit)
     tr = res.trace
     bvh = col.bvh_arrays()
     bad = tr.cone["node"][~tr.cone["bounded"]]
@@ -434,6 +443,7 @@ def collision_sentences(col, res, limit: int | None = None) -> list[str]:
     vertex-face, then edge-edge contact), the first `limit` of them: what collides, and why the
     smallest node holding it was not culled (_Triage.why_found)."""
     check_result(col, res)
+    limit = check_limit(limit, none_ok=True)
     t = _Triage(col, res)
     if not hasattr(res, "vf"):
         return t.pairs(res.pairs[:limit])
@@ -476,6 +486,7 @@ def explain_face(col, res, face: int, *, name: str = "face", limit: int = 5) -> 
     that holds it."""
     check_result(col, res)
     face = check_face(face, col.mesh.n_faces, name)
+    limit = check_limit(limit)
     t = _Triage(col, res)
     if hasattr(res, "vf"):
         F, FE = col.mesh.faces, col.mesh.face_edges

@@ -203,6 +203,10 @@ def test_bench_from_json_names_a_bad_file(tmp_path, capsys):
     bad.write_text("not json")
     assert main(["bench", "all", "--from-json", str(bad), "--out", str(tmp_path / "o")]) == 2
     assert f"--from-json: '{bad}' is not a JSON file" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+    (tmp_path / "f").write_text("")  # where --out cannot be created: named before the file is read
+    assert main(["bench", "all", "--from-json", str(bad), "--out", str(tmp_path / "f" / "o")]) == 2
+    assert f"--out: cannot create folder '{tmp_path / 'f' / 'o'}'" in capsys.readouterr().err
 
 
 @pytest.mark.parametrize("argv,msg", [
@@ -378,8 +382,10 @@ def test_bench_from_json_names_a_file_that_is_no_paper_json(tmp_path, content, m
     assert main(["bench", "all", "--from-json", str(path), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert msg in err and "Traceback" not in err, err
+    assert not (tmp_path / "o").exists()  # refused: no folder left behind (found by review)
     assert main(["bench", "all", "--from-json", str(tmp_path / "none.json"), "--out", str(tmp_path / "o")]) == 2
     assert f"--from-json: cannot read '{tmp_path / 'none.json'}'" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
 
 
 def test_bench_refusals_leave_no_folder(tmp_path, capsys):

@@ -239,6 +239,23 @@ def test_no_triangles_is_an_error():
         normal_spread(Normals(F, V), [])
 
 
+@pytest.mark.parametrize("call,match", [  # found by review: a silent wrap-around, a truncation, raw numpy errors
+    (lambda F, V: normal_spread(Normals(F, V), [-1]), r"tris: triangle id -1 is outside \[0, 2\)"),
+    (lambda F, V: normal_spread(Normals(F, V), [2]), r"tris: triangle id 2 is outside \[0, 2\)"),
+    (lambda F, V: normal_spread(Normals(F, V), [0.5]), r"tris: expected triangle ids \(integers"),
+    (lambda F, V: normal_spread(Normals(F, V), [[0, 1]]), r"tris: expected triangle ids .* shape \(1, 2\)"),
+    (lambda F, V: Normals(F, np.where(np.arange(V.size).reshape(V.shape) == 3, np.nan, V)), r"V0: non-finite coordinate nan at row 1, column 0"),
+    (lambda F, V: Normals(F, V[:, :2]), r"V0: expected shape \(n, 3\), got \(\d+, 2\)"),
+    (lambda F, V: Normals(F, V[:2]), r"faces: vertex index \d+ but V0 has 2 rows"),
+    (lambda F, V: Normals(F, V, V[:-1]), r"V1: has \d+ rows but the mesh has \d+ vertices"),
+    (lambda F, V: Normals(F + 0.5, V), r"faces: expected an integer array"),
+])
+def test_bad_input_is_named(call, match):
+    F, V = tri_mesh([with_normal((0, 0, 1)), with_normal((0, 1, 0))])
+    with pytest.raises(ValueError, match=match):
+        call(F, V)
+
+
 def test_the_filter_decides_subnormal_products_exactly():
     """From a review: one triangle with coordinates near 2^-127 and an axis l = (1, l1, l2) whose
     two products with its normal round to +2 and -1 units of 2^-1074 while their exact sum is

@@ -309,3 +309,20 @@ def test_ply_face_ids_must_be_lists_of_whole_numbers(tmp_path, faces, match):
         (tmp_path / "g.ply").write_text(head + "3 0 1 3.0\n")
         F, _ = load_sequence(str(tmp_path / "g.ply"))
         assert F.tolist() == [[0, 1, 3]]
+
+
+def test_ply_refuses_a_property_declared_twice(tmp_path):
+    """Two vertex_indices lists on the faces (or two x on the vertices): which holds the data is
+    a guess; found by review reading the first silently."""
+    for twice in ("property list uchar int vertex_indices\nproperty list uchar int vertex_indices",
+                  "property list uchar int vertex_indices"):
+        head = ("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                f"element face 1\n{twice}\nend_header\n0 0 0\n1 0 0\n0 1 0\n")
+        body = "3 0 1 2 3 0 2 1\n" if twice.count("vertex_indices") == 2 else "3 0 1 2\n"
+        (tmp_path / "f.ply").write_text(head + body)
+        if twice.count("vertex_indices") == 2:
+            with pytest.raises(ValueError, match=r"f\.ply: header line 'property list uchar int vertex_indices': "
+                                                 r"element 'face' already has a property 'vertex_indices'"):
+                load_sequence(str(tmp_path / "f.ply"))
+        else:
+            assert load_sequence(str(tmp_path / "f.ply"))[0].tolist() == [[0, 1, 2]]

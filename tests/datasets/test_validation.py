@@ -65,8 +65,10 @@ def test_load_refuses_and_never_caches_non_finite_positions(cache, monkeypatch):
 
 
 @pytest.mark.parametrize("kwargs,match", [
-    ({"name": "fold", "resolution": 3, "frames": 10**12}, "frames: 1000000000000 frames of scene 'fold' at "
-                                                          "resolution 3 would need about"),
+    ({"name": "fold", "resolution": 3000, "frames": 10**4}, "frames: 10000 frames of scene 'fold' at "
+                                                             "resolution 3000 would need about"),
+    # beyond MAX_FRAMES: a typo that would simulate for hours, whatever the memory
+    ({"name": "funnel", "resolution": 3, "frames": 10**6}, r"frames: expected an integer in \[1, 10000\], got 1000000"),
     ({"name": "fold", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'fold'"),
     ({"name": "squishy", "resolution": 10**7, "frames": 1}, "resolution: one frame of scene 'squishy'"),
     ({"name": "falling", "resolution": 10**7, "frames": 1}, "resolution: 10000000 does not suit scene 'falling'"),
@@ -265,6 +267,21 @@ def _corrupt_deflate(p, F, P):
     p.write_bytes(bytes(b))
 
 
+def _huge_header(p, F, P):
+    """positions.npy's header claims a shape beyond int64 (numpy raised OverflowError: found by
+    review, a traceback from the CLI, whose exit code 1 reads as "collides")."""
+    import io
+    import zipfile
+
+    with zipfile.ZipFile(p, "w") as z:
+        b = io.BytesIO()
+        np.lib.format.write_array(b, F)
+        z.writestr("faces.npy", b.getvalue())
+        b = io.BytesIO()
+        np.lib.format.write_array_header_1_0(b, {"descr": "<f8", "fortran_order": False, "shape": (P.shape[0], 10**30, 3)})
+        z.writestr("positions.npy", b.getvalue() + bytes(100))
+
+
 def _replaced(faces=None, positions=None):
     def damage(p, F, P):
         np.savez(p, faces=F if faces is None else faces(F), positions=P if positions is None else positions(P))
@@ -275,6 +292,7 @@ def _replaced(faces=None, positions=None):
     (lambda p, F, P: p.write_bytes(p.read_bytes()[:100]), ""),
     (lambda p, F, P: p.write_bytes(b""), ""),
     (_corrupt_deflate, ""),
+    (_huge_header, ""),
     (lambda p, F, P: np.savez(p, faces=F), "no array 'positions'"),
     (_replaced(positions=lambda P: np.full_like(P, np.nan)), "a non-finite position"),
     (_replaced(positions=lambda P: np.full_like(P, 1e300)), r"coordinate 1e\+300 in frame 0 .* outside the supported range"),

@@ -36,8 +36,14 @@ def test_refuses_a_result_of_another_mesh(sheets, other):
         explain_node(col, res2, 0)
     with pytest.raises(ValueError, match="res: comes from another collider"):
         explain_node(col2, res, 0)
-    with pytest.raises(ValueError, match="res: comes from another collider"):  # judged by its trace
+    with pytest.raises(ValueError, match="res: was traced on another BVH than col's"):  # by its BVH's fingerprint
         explain_node(col, dataclasses.replace(res2, collider=None), 0)
+    res2.trace.bvh = None  # a trace without one (built by hand) is judged by what it shows
+    try:
+        with pytest.raises(ValueError, match="res: comes from another collider"):
+            explain_node(col, dataclasses.replace(res2, collider=None), 0)
+    finally:
+        res2.trace.bvh = col2.bvh_digest()
 
 
 def test_refuses_a_result_of_another_method(sheets):
@@ -58,6 +64,31 @@ def test_refuses_a_result_of_a_twin_collider(sheets):
     with pytest.raises(ValueError, match="res: comes from another collider"):
         explain_node(twin, res, 0)
     assert explain_node(twin, dataclasses.replace(res, collider=None), 0) == explain_node(col, res, 0)
+
+
+def test_an_unpickled_result_needs_a_collider_with_its_bvh(sheets):
+    """A pickled result loses its collider; its trace keeps the BVH's fingerprint. A collider of
+    the same mesh and method whose BVH was built from another pose has the same depth and node
+    count, so only the fingerprint tells that its node ids name other nodes (found by review:
+    25 of 100 explanations differed, silently); one built from the same first pose explains it
+    exactly as the original does."""
+    import pickle
+
+    col, res, P = sheets[0]
+    back = pickle.loads(pickle.dumps(res))
+    assert back.collider() is None and back.trace.bvh == col.bvh_digest() is not None
+    other = conecull.SelfCollider(col.mesh, method=col.method)
+    other.dcd(np.ascontiguousarray(P[-1][:, ::-1]))  # another first pose: another BVH
+    assert other.bvh_digest() != col.bvh_digest()
+    assert len(other.bvh_arrays()["begin"]) == len(col.bvh_arrays()["begin"])
+    with pytest.raises(ValueError, match="res: was traced on another BVH than col's"):
+        explain_node(other, back, 0)
+    twin = conecull.SelfCollider(col.mesh, method=col.method)
+    twin.dcd(P[0])
+    assert twin.bvh_digest() == col.bvh_digest()
+    last = len(col.bvh_arrays()["begin"]) - 1
+    for node in (0, last // 2, last):
+        assert explain_node(twin, back, node) == explain_node(col, res, node)
 
 
 def test_refuses_an_untraced_result(sheets):
@@ -375,3 +406,21 @@ def test_triage_sentences_use_the_method_s_own_test(method):
     text = explain_pair(col, res, a, b)
     want = {"sct": "star-shaped around the kernel point the line search found", "cbc": "every pair proven apart"}
     assert want[method] in text and "projects to a star-shaped polygon" not in text
+
+
+@pytest.mark.parametrize("limit", [0, -1, 1.5, "a", None, True])
+def test_names_a_bad_limit(sheets, limit):
+    """limit counts items to show, not a slice bound (found by review: -1 silently dropped the
+    last item, 0 printed a heading with nothing under it, 'a' raised a TypeError about slices)."""
+    from conecull.viz.explain import collision_sentences, explain_cones, explain_face
+
+    col, res, _ = sheets[0]
+    with pytest.raises(ValueError, match=r"^limit: expected an integer >= 1"):
+        explain_cones(col, res, limit=limit)
+    with pytest.raises(ValueError, match=r"^limit: expected an integer >= 1"):
+        explain_face(col, res, 0, limit=limit)
+    if limit is not None:
+        with pytest.raises(ValueError, match=r"^limit: expected an integer >= 1 or None \(all\)"):
+            collision_sentences(col, res, limit=limit)
+    else:
+        assert len(collision_sentences(col, res, limit=None)) == len(res.pairs) > 0

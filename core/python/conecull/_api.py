@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import weakref
@@ -36,7 +37,9 @@ def _as_float64(a: np.ndarray, name: str) -> np.ndarray:
     """a as float64 if that conversion is exact; otherwise a ValueError (a rounded coordinate
     would make every exact sign after it the sign of another input)."""
     b = a.astype(np.float64, copy=False)
-    if a.dtype.itemsize > 4 and a.dtype != np.float64 and not np.array_equal(b.astype(a.dtype), a, equal_nan=True):
+    with np.errstate(invalid="ignore"):  # 2^64 - 1 rounds to 2^64, beyond uint64: the cast back differs, no warning
+        back = b.astype(a.dtype) if a.dtype.itemsize > 4 and a.dtype != np.float64 else a
+    if not np.array_equal(back, a, equal_nan=True):
         what = "integer coordinates beyond 2^53 are" if a.dtype.kind in "iu" else f"{a.dtype} coordinates are"
         raise ValueError(f"{name}: some {what} not exactly float64 (rounding would move them); pass float64")
     return np.ascontiguousarray(b)
@@ -199,6 +202,11 @@ class Mesh:
         return f"Mesh(n_vertices={self.n_vertices}, n_faces={self.n_faces}, n_edges={self._topo.n_edges})"
 
 
+def _detached():
+    """An unpickled result's `collider`: the collider is not pickled, so there is none to return."""
+    return None
+
+
 @dataclass
 class DcdResult:
     pairs: np.ndarray
@@ -214,10 +222,14 @@ class DcdResult:
     """The query's events (conecull.trace schema) when queried with trace=True."""
     collider: weakref.ref | None = field(default=None, repr=False, compare=False)
     """A weak reference to the SelfCollider that answered (its node ids are the ones the trace
-    names): res.collider() is that collider, or None once it is gone. Not pickled."""
+    names): res.collider() is that collider, or None once it is gone or the result was unpickled.
+    Not pickled (the trace keeps its collider's BVH fingerprint, SelfCollider.bvh_digest)."""
 
     def __getstate__(self):  # a result pickles (e.g. back from a worker process), without its collider
         return {**self.__dict__, "collider": None}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state, collider=_detached)
 
 
 @dataclass
@@ -237,6 +249,9 @@ class CcdResult:
 
     def __getstate__(self):
         return {**self.__dict__, "collider": None}
+
+    def __setstate__(self, state):
+        self.__dict__.update(state, collider=_detached)
 
 
 ARITHMETIC = ("float", "conservative", "exact")
@@ -272,6 +287,7 @@ class SelfCollider:
         self._method = method
         self._leaf_size = int(leaf_size)
         self._core = _core.SelfCollider(mesh._topo, method, self._leaf_size, _as_threads(threads))
+        self._bvh_digest = None
 
     # Read-only: the core was built for this mesh, method and leaf size; rebinding one would make
     # the Python side disagree with it (front_arrays on an "nc" collider, positions checked
@@ -321,7 +337,7 @@ class SelfCollider:
         t = _as_threads(threads)
         a = _as_positions(V, self.mesh.n_vertices)
         pairs, stats, raw = self._core.dcd(a, bool(trace), t, bool(stop_at_first))
-        tr = Trace(raw, positions=(a.copy(),)) if raw is not None else None
+        tr = Trace(raw, positions=(a.copy(),), bvh=self.bvh_digest()) if raw is not None else None
         return DcdResult(pairs=pairs, stats=stats, trace=tr,
                          collider=weakref.ref(self))
 
@@ -349,13 +365,29 @@ class SelfCollider:
         a0 = _as_positions(V0, self.mesh.n_vertices, "V0")
         a1 = _as_positions(V1, self.mesh.n_vertices, "V1")
         vf, ee, stats, raw, tois = self._core.ccd(a0, a1, arithmetic, bool(trace), bool(toi), t, bool(stop_at_first))
-        tr = Trace(raw, positions=(a0.copy(), a1.copy())) if raw is not None else None
+        tr = Trace(raw, positions=(a0.copy(), a1.copy()), bvh=self.bvh_digest()) if raw is not None else None
         return CcdResult(vf=vf, ee=ee, stats=stats, toi=tois, trace=tr,
                          collider=weakref.ref(self))
 
     # Debug views of the acceleration structures as NumPy arrays (valid after a first query).
     def bvh_arrays(self) -> dict:
         return self._core.bvh_arrays()
+
+    def bvh_digest(self) -> str | None:
+        """A fingerprint of this collider's BVH: its nodes' children and face ranges and the face
+        order, which fix what every node id means (None before the first query builds it; fixed
+        after: the BVH is only refit). A traced result carries it (res.trace.bvh), so a result
+        parted from its collider (pickled) is explained only with a collider whose node ids mean
+        the same (viz.explain.check_result)."""
+        if self._bvh_digest is None:
+            b = self._core.bvh_arrays()
+            if not len(b["depth"]) and self.mesh.n_faces:
+                return None  # not built yet
+            h = hashlib.blake2b(digest_size=16)
+            for key in ("left", "right", "begin", "end", "order"):
+                h.update(np.ascontiguousarray(b[key], dtype=np.int64).tobytes())
+            self._bvh_digest = h.hexdigest()
+        return self._bvh_digest
 
     def cone_arrays(self) -> dict:
         return self._core.cone_arrays()

@@ -79,8 +79,19 @@ class Normals:
     vectors in the others), its rounded value, and its direction."""
 
     def __init__(self, faces: np.ndarray, V0: np.ndarray, V1: np.ndarray | None = None):
-        self.faces, self.V0, self.V1 = np.asarray(faces), V0, V1
-        F = self.faces
+        from conecull._api import _as_faces, _as_positions, _asarray
+
+        F = _as_faces(faces).astype(np.int64)
+        shape = _asarray(V0, "V0").shape
+        V0 = _as_positions(V0, shape[0] if len(shape) == 2 else -1, "V0")
+        V1 = None if V1 is None else _as_positions(V1, len(V0), "V1")
+        for name, V in (("V0", V0), ("V1", V1)):
+            if V is not None and not np.isfinite(V).all():  # the exact rows need finite doubles
+                r, c = (int(x) for x in np.argwhere(~np.isfinite(V))[0])
+                raise ValueError(f"{name}: non-finite coordinate {V[r, c]} at row {r}, column {c}")
+        if len(F) and F.max() >= len(V0):
+            raise ValueError(f"faces: vertex index {int(F.max())} but V0 has {len(V0)} rows")
+        self.faces, self.V0, self.V1 = F, V0, V1
         self.m = len(F)
         a0, b0, c0 = V0[F[:, 0]], V0[F[:, 1]], V0[F[:, 2]]
         u0, w0 = b0 - a0, c0 - a0
@@ -271,9 +282,15 @@ def min_norm_point(P: np.ndarray, max_iter: int = 200) -> tuple[np.ndarray, list
 
 def normal_spread(normals: Normals, tris) -> Spread:
     """Spread of the normal rows of triangles `tris` (ids into the mesh's faces). See the module doc."""
-    tris = np.asarray(tris, np.int64).reshape(-1)
+    a = np.asarray(tris)
+    if a.dtype.kind not in "iu" or a.ndim > 1:
+        raise ValueError(f"tris: expected triangle ids (integers, 0-d or 1-d), got dtype {a.dtype} shape {a.shape}")
+    tris = a.astype(np.int64).reshape(-1)
     if len(tris) == 0:
         raise ValueError("tris: expected at least one triangle")
+    if tris.min() < 0 or tris.max() >= normals.m:
+        bad = int(tris.min() if tris.min() < 0 else tris.max())
+        raise ValueError(f"tris: triangle id {bad} is outside [0, {normals.m})")
     all_rows = rows = normals.rows(tris)
     zero = np.flatnonzero(~(normals.length[rows] > 0))
     for i in zero:  # a rounded zero: exactly zero (no normal), unless the rounding cancelled it

@@ -150,10 +150,12 @@ def explain(code: int, edge: int = -1, crossings: int = 0, simple: bool = False,
 class Trace:
     """Events of one traced query: `trace.cone["axis"]`, `trace.contour["reason"]`, ..."""
 
-    def __init__(self, raw: dict, positions: tuple):
+    def __init__(self, raw: dict, positions: tuple, bvh: str | None = None):
         # The query's positions, copied: (V,) for DCD, (V0, V1) for CCD; what the events were
         # computed from (normal_spread reads them to say why a cone failed).
         self.positions = positions
+        # The fingerprint of the BVH whose node ids the events name (SelfCollider.bvh_digest).
+        self.bvh = bvh
         self.cone = {f.name: raw["cone_" + f.name] for f in EVENT_KINDS["cone"].fields}
         self.contour = {f.name: raw["contour_" + f.name] for f in EVENT_KINDS["contour"].fields}
         self.level = {"pairs": raw["level_pairs"], "overlaps": raw["level_overlaps"]}
