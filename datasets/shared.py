@@ -108,6 +108,7 @@ def load_scalable_step(data: Path, scene: str, step: str):
     import trimesh
 
     d = Path(data) / "scalable-ccd" / scene
+
     def number(p):  # frames are numbered by the digits after their last '_'
         digits = "".join(c for c in p.stem.split("_")[-1] if c.isdigit())
         return (0, int(digits)) if digits else (1, 0)
@@ -138,9 +139,7 @@ def load_scalable_step(data: Path, scene: str, step: str):
     theirs = e[np.lexsort((e[:, 0], e[:, 1]))]  # theirs: sorted by (larger, smaller)
     ours_id = {tuple(r): i for i, r in enumerate(e.tolist())}
     their_to_ours = np.array([ours_id[tuple(r)] for r in theirs.tolist()])
-    n_edges = len(e)
-
-    m = len(F)
+    n_edges, m = len(e), len(F)
 
     def read_json(path):
         try:
