@@ -263,9 +263,9 @@ def _read_cached(path: Path, frames: int, n_triangles: int):
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in ("faces", "positions") if k in z.files}
-    except (OSError, ValueError, EOFError, OverflowError, zipfile.BadZipFile, zlib.error) as e:  # truncated, empty,
-        raise damaged(str(e) or type(e).__name__) from None  # not an npz, pickled, a broken deflate stream, a shape
-        # beyond int64 in the header
+    # Truncated, empty, not an npz, pickled, a broken deflate stream, a header shape beyond int64:
+    except (OSError, ValueError, EOFError, OverflowError, zipfile.BadZipFile, zlib.error) as e:
+        raise damaged(str(e) or type(e).__name__) from None
     except MemoryError:  # a damaged header claiming a huge array
         raise damaged("an array larger than this machine's memory") from None
     for k in ("faces", "positions"):
