@@ -85,9 +85,10 @@ def load_ccd_queries(path: Path):
             pts[k] = [exact_double(r[0], r[1]), exact_double(r[2], r[3]), exact_double(r[4], r[5])]
         except ValueError as e:
             raise ValueError(f"path: {where}: {e}") from None
-        if r[6] not in (0, 1) or r[6] != int(lines[k - k % 8].split(",")[6]):
+        if k % 8 == 0 and r[6] in (0, 1):
+            truth[k // 8] = r[6] == 1  # the query's first row; its other seven must agree
+        elif r[6] != truth[k // 8] or r[6] not in (0, 1):
             raise ValueError(f"path: {where}: truth {r[6]}, expected 0 or 1 and the same on the query's 8 rows")
-        truth[k // 8] = r[6] == 1
     kind = "vf" if path.parent.name == "vertex-face" else "ee"
     return kind, pts.reshape(-1, 8, 3), truth
 
@@ -160,15 +161,13 @@ def load_scalable_step(data: Path, scene: str, step: str):
         if len(boxes) != len(flags):  # zip would drop the tail silently
             raise ValueError(f"{d}: step {step} {kind}: {len(boxes)} candidate pairs in boxes/ but {len(flags)} "
                              "flags in mma_bool/")
-        first = (0, n) if kind == "vf" else (n, n)
+        first = (0, n + n_edges) if kind == "vf" else (n, n)  # where each id's range starts
         size = (n, m) if kind == "vf" else (n_edges, n_edges)
         out = set()
         for row, (pair, hit) in enumerate(zip(boxes, flags)):
             if not isinstance(hit, bool):
                 raise ValueError(f"{flags_path}: entry {row} is {hit!r}, expected true or false")
             ok = isinstance(pair, list) and len(pair) == 2 and all(type(x) is int for x in pair)
-            if kind == "vf" and ok:
-                pair = [pair[0], pair[1] - n_edges]  # face ids follow the edges
             if not ok or not all(0 <= x - lo < hi for x, lo, hi in zip(pair, first, size)):
                 raise ValueError(f"{boxes_path}: entry {row} is {boxes[row]!r}, expected two box ids: "
                                  + ("a vertex in [0, n) and a face in [n + n_edges, n + n_edges + m)" if kind == "vf"
@@ -177,7 +176,7 @@ def load_scalable_step(data: Path, scene: str, step: str):
                 continue
             i, j = pair
             if kind == "vf":
-                out.add((i, j - n))
+                out.add((i, j - n - n_edges))
             else:
                 a, b = their_to_ours[i - n], their_to_ours[j - n]
                 out.add((int(min(a, b)), int(max(a, b))))

@@ -80,15 +80,15 @@ class Normals:
 
     def __init__(self, faces: np.ndarray, V0: np.ndarray, V1: np.ndarray | None = None):
         from conecull._api import _as_faces, _as_positions, _asarray
+        from conecull.datasets.checks import _first_non_finite
 
         F = _as_faces(faces).astype(np.int64)
-        shape = _asarray(V0, "V0").shape
-        V0 = _as_positions(V0, shape[0] if len(shape) == 2 else -1, "V0")
+        V0 = _asarray(V0, "V0")
+        V0 = _as_positions(V0, len(V0) if V0.ndim == 2 else -1, "V0")
         V1 = None if V1 is None else _as_positions(V1, len(V0), "V1")
         for name, V in (("V0", V0), ("V1", V1)):
             if V is not None and not np.isfinite(V).all():  # the exact rows need finite doubles
-                r, c = (int(x) for x in np.argwhere(~np.isfinite(V))[0])
-                raise ValueError(f"{name}: non-finite coordinate {V[r, c]} at row {r}, column {c}")
+                raise ValueError(f"{name}: {_first_non_finite(V)}")
         if len(F) and F.max() >= len(V0):
             raise ValueError(f"faces: vertex index {int(F.max())} but V0 has {len(V0)} rows")
         self.faces, self.V0, self.V1 = F, V0, V1
