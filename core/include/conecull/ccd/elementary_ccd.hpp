@@ -18,6 +18,8 @@
 //                  then an exact decision: exact root isolation of the polynomials in t with dyadic
 //                  arithmetic and their signs at those roots (exact_ccd.cpp) - exactly the
 //                  answer for the given doubles.
+// Every mode first orders the corners by their coordinates, so an answer (and a time-of-impact
+// bound) depends on the moving points only, never on the order they are passed in.
 #pragma once
 
 #include <cstdint>
