@@ -90,25 +90,23 @@ def _sample_size(mode):
     return 400 if mode == "conservative" else 3000  # a conservative near miss takes ~0.1 ms
 
 
+KINDS = {  # kind: (near misses, the rows test, the rows in each of their orders)
+    "vf": (near_miss_vf, C.vertex_face_ccd_rows, face_orders),
+    "ee": (near_miss_ee, C.edge_edge_ccd_rows, edge_orders),
+}
+
+
 @pytest.mark.parametrize("mode", MODES)
-def test_vertex_face_answer_ignores_the_faces_corner_order(mode):
-    rows = near_miss_vf(np.random.default_rng(11), _sample_size(mode))
-    first = C.vertex_face_ccd_rows(*rows, mode)
+@pytest.mark.parametrize("kind", KINDS)
+def test_an_answer_ignores_the_order_of_the_corners(kind, mode):
+    make, test, orders = KINDS[kind]
+    rows = make(np.random.default_rng(11 if kind == "vf" else 12), _sample_size(mode))
+    first = test(*rows, mode)
     # near misses on both sides of each mode's decision, not a sample every order agrees on trivially
     assert 0.05 < first.mean() < 0.95
-    for perm, reordered in face_orders(rows):
-        again = C.vertex_face_ccd_rows(*reordered, mode)
-        assert np.array_equal(again, first), f"{mode}: corners {perm}: rows {np.flatnonzero(again != first)[:10]}"
-
-
-@pytest.mark.parametrize("mode", MODES)
-def test_edge_edge_answer_ignores_the_edges_order(mode):
-    rows = near_miss_ee(np.random.default_rng(12), _sample_size(mode))
-    first = C.edge_edge_ccd_rows(*rows, mode)
-    assert 0.05 < first.mean() < 0.95
-    for order, reordered in edge_orders(rows):
-        again = C.edge_edge_ccd_rows(*reordered, mode)
-        assert np.array_equal(again, first), f"{mode}: order {order}: rows {np.flatnonzero(again != first)[:10]}"
+    for order, reordered in orders(rows):
+        again = test(*reordered, mode)
+        assert np.array_equal(again, first), f"{kind} {mode}: order {order}: rows {np.flatnonzero(again != first)[:10]}"
 
 
 def test_the_order_is_total_on_signed_zeros_and_ties():
