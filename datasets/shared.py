@@ -85,10 +85,9 @@ def load_ccd_queries(path: Path):
             pts[k] = [exact_double(r[0], r[1]), exact_double(r[2], r[3]), exact_double(r[4], r[5])]
         except ValueError as e:
             raise ValueError(f"path: {where}: {e}") from None
-        if k % 8 == 0 and r[6] in (0, 1):
-            truth[k // 8] = r[6] == 1  # the query's first row; its other seven must agree
-        elif r[6] != truth[k // 8] or r[6] not in (0, 1):
+        if r[6] not in (0, 1) or (k % 8 and r[6] != truth[k // 8]):  # the query's other rows agree with its first
             raise ValueError(f"path: {where}: truth {r[6]}, expected 0 or 1 and the same on the query's 8 rows")
+        truth[k // 8] = r[6] == 1
     kind = "vf" if path.parent.name == "vertex-face" else "ee"
     return kind, pts.reshape(-1, 8, 3), truth
 

@@ -444,12 +444,18 @@ void order_face(Moving& a, Moving& b, Moving& c) {
     order_pair(b, c);
     order_pair(a, b);
 }
-// Each edge's ends sorted, then the edges by their (first, second) ends.
+// Edge (c, d) before edge (a, b), each with its ends sorted: by first ends, then by second
+// ends (branching, as in precedes, on the rare tie only).
+bool edge_precedes(const Moving& c, const Moving& d, const Moving& a, const Moving& b) {
+    if (c.at0->x != a.at0->x) return c.at0->x < a.at0->x;
+    const int first = compare_moving(c, a);
+    return first < 0 || (first == 0 && compare_moving(d, b) < 0);
+}
+// Each edge's ends sorted, then the edges.
 void order_edges(Moving& a, Moving& b, Moving& c, Moving& d) {
     order_pair(a, b);
     order_pair(c, d);
-    const bool swap = a.at0->x != c.at0->x ? c.at0->x < a.at0->x
-                                            : (compare_moving(c, a) < 0 || (compare_moving(c, a) == 0 && compare_moving(d, b) < 0));
+    const bool swap = edge_precedes(c, d, a, b);
     const Moving a2 = swap ? c : a, b2 = swap ? d : b, c2 = swap ? a : c, d2 = swap ? b : d;
     a = a2, b = b2, c = c2, d = d2;
 }
