@@ -14,7 +14,9 @@ simulation); within a frame the methods take turns, so load on a shared machine 
 and each pass starts the turns one method later, so that no method always runs right after the
 same one (whose memory traffic its caches inherit). The first frame of a pass follows a jump
 (the last frame of the previous pass) and is not timed. Per frame the median over passes, then
-the median over frames. One thread unless told.
+the median over frames. One thread unless told. nc+front's speed-ups (Fig. 10's last columns and
+the targets) are paired: per frame and pass, the other method's time over nc+front's, the two
+having run in turn, then the median of those ratios (paired_ratios says why).
 In every pass, every method's result is checked equal, pair for pair, to that of the method
 that ran first in its frame, and on the shared steps exact CCD to the ground truth: a benchmark
 of a wrong answer is worthless.
@@ -37,7 +39,7 @@ import numpy as np
 import conecull
 from conecull._api import DEFAULT_LEAF_SIZE
 from conecull.app.bench import _disagree, _same_answer, _size_label, shared_steps
-from conecull.app.targets import judge, print_targets
+from conecull.app.targets import front_speedups, judge, print_targets
 from conecull.datasets.checks import memory_bytes
 
 PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
@@ -115,10 +117,27 @@ def _timed_pass(cols, frames, ms, stats, *, ccd=False, arithmetic="exact", timed
                                 f"({len(frames[k])} vertices)")
 
 
+# The method the paired ratios compare every method with (time_sequence): Alg. 4's.
+PAIRED_AGAINST = "nc+front"
+
+
+def paired_ratios(ms, methods, frames, against=PAIRED_AGAINST):
+    """Per method m: the median, over the given frames and every pass, of m's ms divided by
+    `against`'s ms of the same frame and pass (ms[m][k][p], as time_sequence keeps them). Within a
+    frame the methods take turns, so the two queries of a pair ran seconds apart at most, and a
+    slow spell of a shared machine that hits one hits the other: the ratio of the two medians
+    follows such spells (falling, DCD nc / nc+front, three runs alike: 1.04, 1.06, 1.15x; paired:
+    1.064, 1.068, 1.076x). Empty if `against` was not timed."""
+    if against not in methods:
+        return {}
+    return {m: statistics.median(a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])) for m in methods}
+
+
 def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE,
                   suite="all"):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
-    and the stats of the last pass. Frame / step 0 is untimed in every pass (see module doc)."""
+    and the stats of the last pass; and per method its paired ratio to nc+front (paired_ratios,
+    over the frames the median covers). Frame / step 0 is untimed in every pass (see module doc)."""
     cols = _colliders(F, frames, methods, threads, leaf_size)
     n = len(frames) - 1 if ccd else len(frames)
     ms = {m: [[] for _ in range(n)] for m in methods}
@@ -131,7 +150,7 @@ def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmet
             del ms[m][0][0]
     per_frame = {m: [statistics.median(ms[m][k]) for k in range(n)] for m in methods}
     med = {m: statistics.median(per_frame[m][k] for k in timed) if n > 1 else per_frame[m][0] for m in methods}
-    return med, per_frame, stats
+    return med, per_frame, stats, paired_ratios(ms, methods, timed if n > 1 else range(n))
 
 
 def _window(frames, n):
@@ -155,13 +174,14 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
         W = _window(P, n_frames)
         print(f"- {name}: {len(F)} triangles, frames {len(P) - len(W)}..{len(P) - 1} of {len(P)} "
               f"(loaded in {gen_s:.1f} s)", file=sys.stderr, flush=True)
-        dcd_med, dcd_pf, dcd_st = time_sequence(F, W, DCD_METHODS, repeats, threads=threads)
-        ccd_med, ccd_pf, ccd_st = time_sequence(F, W, CCD_METHODS, repeats, ccd=True, threads=threads)
+        dcd_med, dcd_pf, dcd_st, dcd_pair = time_sequence(F, W, DCD_METHODS, repeats, threads=threads)
+        ccd_med, ccd_pf, ccd_st, ccd_pair = time_sequence(F, W, CCD_METHODS, repeats, ccd=True, threads=threads)
         # Fig. 11 and Fig. 1 over every frame of the scene: counters only (one pass, untimed).
-        _, _, all_dcd = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb", "nc", "aabb+front", "nc+front"), 1,
+        _, _, all_dcd, _ = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb", "nc", "aabb+front", "nc+front"), 1,
                                       threads=threads)
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "window": len(W),
                      "dcd_ms": dcd_med, "ccd_ms": ccd_med, "dcd_ms_per_frame": dcd_pf, "ccd_ms_per_step": ccd_pf,
+                     "dcd_paired": dcd_pair, "ccd_paired": ccd_pair,
                      "dcd_stats": dcd_st, "ccd_stats": ccd_st, "all_frames": all_dcd})
     _fig10_tables(rows, "scene")
     _fig11_table(rows)
@@ -215,10 +235,10 @@ def run_front(args) -> int:
     for name in scenes:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
-        _, _, all_dcd = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf,
+        _, _, all_dcd, _ = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf,
                                       suite="front")
         # Fig. 11's CCD row: the steps `bench all` times (by default).
-        _, _, ccd = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
+        _, _, ccd, _ = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
                                   threads=threads, leaf_size=leaf, suite="front")
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
                      "bound": front_bound(F, window[0], window[-1], leaf_size=leaf)})
@@ -258,13 +278,19 @@ def _bound_table(rows):
 def _fig10_tables(rows, key):
     for kind, methods in (("dcd", DCD_METHODS), ("ccd", CCD_METHODS)):
         label = "DCD" if kind == "dcd" else "CCD (exact)"
-        print(f"| {label} | triangles | " + " | ".join(methods) + " | nc+front vs nc | nc+front vs aabb |")
+        paired = all(front_speedups(r, kind)[2] for r in rows)
+        how = " (paired)" if paired else ""
+        print(f"| {label} | triangles | " + " | ".join(methods) + f" | nc+front vs nc{how} | nc+front vs aabb{how} |")
         print("|---|---|" + "---|" * len(methods) + "---|---|")
         for r in rows:
             ms = r[f"{kind}_ms"]
             cells = " | ".join(f"{ms[m]:.1f}" if m in ms else "-" for m in methods)
-            print(f"| {r[key]} | {r['triangles']} | {cells} | {ms['nc'] / ms['nc+front']:.2f}x | "
-                  f"{ms['aabb'] / ms['nc+front']:.2f}x |")
+            vs_nc, vs_aabb, _ = front_speedups(r, kind)
+            print(f"| {r[key]} | {r['triangles']} | {cells} | {vs_nc:.2f}x | {vs_aabb:.2f}x |")
+        print()
+    if any(front_speedups(r, kind)[2] for r in rows for kind in ("dcd", "ccd")):
+        print("(paired: the median over the timed frames and passes of the method's time over nc+front's in the "
+              "same frame and pass, the two run in turn; the ms columns are medians per frame, then over frames)")
         print()
 
 
@@ -411,15 +437,16 @@ def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
     rows = []
     for name, F, V0, V1, vf_t, ee_t in steps:
         P = np.stack([V0, V1])
-        ccd_med, _, ccd_st = time_sequence(F, P, CCD_METHODS, repeats + 1, ccd=True, threads=threads)
+        ccd_med, _, ccd_st, ccd_pair = time_sequence(F, P, CCD_METHODS, repeats + 1, ccd=True, threads=threads)
         # DCD at the end pose: frame 0 (V0) is the untimed warm-up, frame 1 (V1) is timed.
-        dcd_med, _, dcd_st = time_sequence(F, P, DCD_METHODS, repeats, threads=threads)
+        dcd_med, _, dcd_st, dcd_pair = time_sequence(F, P, DCD_METHODS, repeats, threads=threads)
         mesh = conecull.Mesh(F, n_vertices=len(V0))
         res = conecull.SelfCollider(mesh, method="nc", threads=threads).ccd(V0, V1)
         vf, ee = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
         if vf_t is not None and (vf != vf_t or ee != ee_t):
             raise RuntimeError(f"bench all: {name}: exact CCD differs from the ground truth; please report this as a bug")
         rows.append({"scene": name, "triangles": len(F), "dcd_ms": dcd_med, "ccd_ms": ccd_med, "ccd_stats": ccd_st,
+                     "dcd_paired": dcd_pair, "ccd_paired": ccd_pair,
                      "dcd_end_stats": {m: [dcd_st[m][1]] for m in DCD_METHODS},
                      "contacts": len(vf) + len(ee), "ground_truth": vf_t is not None})
     _fig10_tables(rows, "scene")
@@ -492,7 +519,7 @@ def run_scaling(sizes, n_frames, repeats, threads, results):
     for (F, P), dcd, st in zip(sheets, dcd_all, st_all):
         rng = np.random.default_rng(0)
         J = 1e-5 * rng.standard_normal(P.shape[1:])  # as `bench ccd`: no exact symmetries
-        ccd, _, _ = time_sequence(F, P[-3:] + J, ("nc",), repeats, ccd=True, threads=threads)
+        ccd, _, _, _ = time_sequence(F, P[-3:] + J, ("nc",), repeats, ccd=True, threads=threads)
         m = len(F)
         row = {"triangles": m, "dcd_nc_ms": dcd["nc"], "dcd_nc_front_ms": dcd["nc+front"], "ccd_nc_ms": ccd["nc"],
                "colliding_pairs": st["nc"]["colliding_pairs"]}

@@ -39,7 +39,9 @@ def test_bench_all_small(tmp_path, capsys):
     front = next(t for name, t in targets.items() if name.startswith("front entries") and "DCD" in name)
     assert front["values"]["ratios"] == {r["scene"]: r["front_ratio"] for r in res["scenes"]}
     faster = next(t for name, t in targets.items() if name.startswith("nc+front faster") and "DCD" in name)
-    assert faster["values"]["vs_nc"]["fold"] == fold["dcd_ms"]["nc"] / fold["dcd_ms"]["nc+front"]
+    assert faster["values"]["vs_nc"]["fold"] == fold["dcd_paired"]["nc"]  # paired (paired_ratios)
+    assert faster["values"]["vs_aabb"]["crumple"] == res["scenes"][1]["dcd_paired"]["aabb"]
+    assert "vs nc (paired)" in faster["measured"] and "| nc+front vs nc (paired) |" in report
     contour = next(t for name, t in targets.items() if name.startswith("contour test"))
     assert contour["verdict"] in ("met", "not met") and set(contour["values"]["ratios"]) == {"DCD sct", "DCD cbc", "CCD cbc"}
     for name, t in targets.items():
@@ -79,9 +81,29 @@ def test_bench_all_rejects_bad_options(capsys):
 
 def test_time_sequence_times_every_method_and_frame():
     F, P = load("crumple")
-    med, per_frame, stats = time_sequence(F, P[-4:], ("aabb", "nc", "nc+front"), 1)
+    med, per_frame, stats, paired = time_sequence(F, P[-4:], ("aabb", "nc", "nc+front"), 1)
     assert set(med) == {"aabb", "nc", "nc+front"} and len(per_frame["nc"]) == 4
     assert all(len(stats[m]) == 4 and all(s is not None for s in stats[m]) for m in med)
+    assert set(paired) == set(med) and paired["nc+front"] == 1.0 and all(v > 0 for v in paired.values())
+    assert time_sequence(F, P[-3:], ("aabb", "nc"), 1)[3] == {}  # nothing to pair with
+
+
+def test_paired_ratios_pair_each_frame_and_pass():
+    """The median of the per-(frame, pass) ratios over the frames given, not the ratio of the
+    medians."""
+    from conecull.app.evaluation import paired_ratios
+
+    # ms[m][frame][pass]; frame 0 is not among those given. Frame 1: pass 2 slow for nc, pass 1
+    # slow for nc+front; frame 2: both slow in pass 3.
+    ms = {"nc": [[50.0] * 3, [1.0, 3.0, 1.2], [1.1, 1.1, 2.2]],
+          "nc+front": [[1.0] * 3, [2.0, 1.0, 1.0], [1.0, 1.0, 2.0]]}
+    got = paired_ratios(ms, ("nc", "nc+front"), range(1, 3))
+    # ratios 0.5, 3.0, 1.2 and 1.1, 1.1, 1.1: median 1.1
+    assert got == {"nc": pytest.approx(1.1), "nc+front": 1.0}
+    # the ratio of the medians (per frame over passes, then over frames) is (1.2 + 1.1) / 2 / 1.0
+    assert float(np.median([np.median(f) for f in ms["nc"][1:]])) / 1.0 == pytest.approx(1.15)
+    assert paired_ratios(ms, ("nc", "nc+front"), range(3))["nc"] == pytest.approx(1.2)  # frame 0 counts if given
+    assert paired_ratios(ms, ("nc",), range(1, 3)) == {}  # nothing to pair with
 
 
 @pytest.mark.parametrize("ccd", [False, True])

@@ -34,6 +34,18 @@ def test_front_faster_needs_every_scene_strictly_faster():
     assert slower_than_aabb["measured"].startswith("on 1 scene: a;")
 
 
+def test_front_faster_judges_the_paired_ratios_when_a_row_has_them():
+    """A `bench all` row carries nc+front's paired speed-ups (evaluation.paired_ratios); they, not
+    the ratio of the ms medians, are judged. Rows without them (an older paper.json) fall back."""
+    paired = _scene("a", (10, 5, 4), (10, 5, 4)) | {"dcd_paired": {"aabb": 2.0, "nc": 0.99, "nc+front": 1.0},
+                                                    "ccd_paired": {"aabb": 2.0, "nc": 1.01, "nc+front": 1.0}}
+    dcd, ccd = judge({"scenes": [paired]})[:2]
+    assert dcd["verdict"] == "not met" and dcd["values"]["vs_nc"] == {"a": 0.99} and "vs nc (paired) " in dcd["measured"]
+    assert ccd["verdict"] == "met" and ccd["values"]["vs_aabb"] == {"a": 2.0}
+    mixed = judge({"scenes": [paired, _scene("b", (10, 5, 4), (10, 5, 4))]})[0]
+    assert mixed["values"]["vs_nc"] == {"a": 0.99, "b": 1.25} and "(paired)" not in mixed["measured"]
+
+
 @pytest.mark.parametrize("ratio, verdict", [(0.40, "met"), (0.4001, "not met"), (0.05, "met")])
 def test_front_share_threshold_is_inclusive(ratio, verdict):
     rows = judge({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=0.1), _scene("b", (3, 2, 1), (3, 2, 1), front=ratio)]})
