@@ -14,6 +14,7 @@ import functools
 import hashlib
 import json
 import os
+import re
 import tempfile
 import zipfile
 import zlib
@@ -234,9 +235,38 @@ def load(name: str, resolution: int | None = None, frames: int | None = None):
                          f"vertex {i}, {int(bad.any(axis=2).sum())} vertex positions in all); nothing was cached")
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, faces=F, positions=P)
+    np.savez(tmp, faces=F, positions=P, meta=np.array(_meta(name, resolution, frames)))
     os.replace(tmp, path)  # atomic: a concurrent reader never sees half a file
+    _prune_stale(folder, name, resolution, frames, keep=path)
     return F, P
+
+
+def _meta(name: str, resolution: int, frames: int) -> str:
+    """What a cache file holds, stored in it (array 'meta'): which files _prune_stale may delete."""
+    return json.dumps({"scene": name, "res": resolution, "frames": frames}, sort_keys=True)
+
+
+def _prune_stale(folder: Path, name: str, resolution: int, frames: int, keep: Path) -> None:
+    """Deletes the other cache files of the same scene, resolution and frame count: written before
+    the generators or (for a simulated scene) the core changed, they are read again only if that
+    version comes back, and each takes up to a GB (squishy at 80 frames: 1.1 GB). Without this the
+    folder grew by every scene at every rebuild of the core. Files of other resolutions or frame
+    counts are kept, and so is any file this cannot read or that holds no 'meta' (written before
+    it was stored: delete those by hand, or the folder)."""
+    pattern = re.compile(re.escape(name) + r"-[0-9a-f]{16}\.npz")
+    for f in folder.iterdir():
+        if f == keep or not pattern.fullmatch(f.name):
+            continue
+        try:
+            with np.load(f, allow_pickle=False) as z:
+                meta = str(z["meta"]) if "meta" in z.files else None
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error):
+            continue
+        if meta == _meta(name, resolution, frames):
+            try:
+                f.unlink()
+            except OSError:  # gone already (another process pruned it), or not ours to delete
+                pass
 
 
 def _check_writable(folder: Path) -> None:

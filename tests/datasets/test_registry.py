@@ -156,6 +156,35 @@ def test_complex_positions_are_refused(tmp_path):
         load_sequence(str(mesh), positions=str(tmp_path / "c.npz"))
 
 
+def test_a_new_version_replaces_its_stale_cache_file(cache, monkeypatch):
+    """Generators or core changed: the scene's file for the same resolution and frame count is
+    replaced, not kept beside the new one for ever; other sizes, files without the stored 'meta'
+    (written before it was) and files that are not cache files stay."""
+    from conecull.datasets import registry
+
+    datasets.load("roll", resolution=10, frames=3)
+    datasets.load("roll", resolution=11, frames=3)
+    datasets.load("roll", resolution=10, frames=4)
+    datasets.load("crumple", resolution=4, frames=3)
+    before = {f.name for f in cache.glob("*.npz")}
+    assert len(before) == 4
+    legacy = cache / "roll-0123456789abcdef.npz"
+    np.savez(legacy, faces=np.zeros((1, 3), np.int64), positions=np.zeros((3, 3, 3)))
+    (cache / "roll-notes.npz").write_bytes(b"not ours")
+    monkeypatch.setattr(registry, "_code_digest", lambda: "generators edited")
+    F, P = datasets.load("roll", resolution=10, frames=3)
+    after = {f.name for f in cache.glob("*.npz")}
+    new = after - before - {legacy.name, "roll-notes.npz"}
+    assert len(new) == 1 and len(after) == 7 - 1  # the 10 x 3 file of the old version is gone
+    gone = before - after
+    assert len(gone) == 1 and gone.pop().startswith("roll-")
+    datasets.load("roll", resolution=11, frames=3)  # the other sizes were kept, stale too: replaced when loaded
+    final = {f.name for f in cache.glob("*.npz")}
+    assert len(final) == 6 and len(final - after) == 1 and len(after - final) == 1
+    F2, P2 = datasets.load("roll", resolution=10, frames=3)  # the new file is read back
+    assert np.array_equal(P, P2) and legacy.exists() and (cache / "roll-notes.npz").exists()
+
+
 def test_cache_key_follows_the_core_for_simulated_scenes(monkeypatch):
     """A simulated scene's self-contact runs the core's exact CCD every substep: another core
     (any rebuild: its binary is hashed) gets another cache entry; a kinematic scene does not."""
