@@ -178,7 +178,7 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
         ccd_med, ccd_pf, ccd_st, ccd_pair = time_sequence(F, W, CCD_METHODS, repeats, ccd=True, threads=threads)
         # Fig. 11 and Fig. 1 over every frame of the scene: counters only (one pass, untimed).
         _, _, all_dcd, _ = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb", "nc", "aabb+front", "nc+front"), 1,
-                                      threads=threads)
+                                         threads=threads)
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "window": len(W),
                      "dcd_ms": dcd_med, "ccd_ms": ccd_med, "dcd_ms_per_frame": dcd_pf, "ccd_ms_per_step": ccd_pf,
                      "dcd_paired": dcd_pair, "ccd_paired": ccd_pair,
@@ -236,10 +236,10 @@ def run_front(args) -> int:
         F, P = load(name, args.resolution, EVAL_FRAMES.get(name))
         window = _window(P, COUNT_FRAMES)
         _, _, all_dcd, _ = time_sequence(F, window, ("aabb+front", "nc+front"), 1, threads=threads, leaf_size=leaf,
-                                      suite="front")
+                                         suite="front")
         # Fig. 11's CCD row: the steps `bench all` times (by default).
         _, _, ccd, _ = time_sequence(F, _window(P, TIMED_FRAMES), ("aabb+front", "nc+front"), 1, ccd=True,
-                                  threads=threads, leaf_size=leaf, suite="front")
+                                     threads=threads, leaf_size=leaf, suite="front")
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "all_frames": all_dcd, "ccd_stats": ccd,
                      "bound": front_bound(F, window[0], window[-1], leaf_size=leaf)})
     print(f"(BVH leaves of at most {leaf} triangles)")

@@ -73,8 +73,8 @@ def _row(target, measured, verdict, **values):
 
 def front_speedups(r, kind):
     """nc+front's speed-up over nc and over aabb in a row of Fig. 10 (kind "dcd" or "ccd"): the
-    paired ratios (evaluation.paired_ratios), and whether they are; rows of a paper.json written before
-    them (--from-json) have the ratio of the two medians only."""
+    paired ratios (evaluation.paired_ratios), and whether they are; rows of a paper.json written
+    before them (--from-json) have the ratio of the two medians only."""
     paired = r.get(f"{kind}_paired")
     if paired:
         return paired["nc"], paired["aabb"], True
