@@ -27,6 +27,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import math
 import os
 import platform
 import shutil
@@ -133,11 +134,34 @@ def paired_ratios(ms, methods, frames, against=PAIRED_AGAINST):
     return {m: statistics.median(a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])) for m in methods}
 
 
+def median_interval(values, level=0.95):
+    """A distribution-free interval for the median of `values` (the sign test's: order statistics
+    k and n + 1 - k, k the largest with P(Binomial(n, 1/2) < k) <= (1 - level) / 2), so it covers
+    the median with probability >= level whatever the ratios' distribution; None when n is too
+    small for any (n < 6 at 95%). Why: whether nc+front is faster than nc on a scene is a question
+    of a few percent, and the interval says when a run cannot tell."""
+    v = sorted(values)
+    n = len(v)
+    tail, k = 0.0, 0
+    while k < n and tail + math.comb(n, k) / 2.0**n <= (1 - level) / 2:
+        tail += math.comb(n, k) / 2.0**n
+        k += 1
+    return (v[k - 1], v[n - k]) if k > 0 else None
+
+
+def paired_intervals(ms, methods, frames, against=PAIRED_AGAINST):
+    """Per method, median_interval of the ratios paired_ratios takes the median of."""
+    if against not in methods:
+        return {}
+    return {m: median_interval([a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])]) for m in methods}
+
+
 def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE,
                   suite="all"):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
-    and the stats of the last pass; and per method its paired ratio to nc+front (paired_ratios,
-    over the frames the median covers). Frame / step 0 is untimed in every pass (see module doc)."""
+    and the stats of the last pass; and per method its paired ratio to nc+front and that median's
+    interval (paired_ratios, paired_intervals: over the frames the median covers). Frame / step 0
+    is untimed in every pass (see module doc)."""
     cols = _colliders(F, frames, methods, threads, leaf_size)
     n = len(frames) - 1 if ccd else len(frames)
     ms = {m: [[] for _ in range(n)] for m in methods}
@@ -150,7 +174,9 @@ def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmet
             del ms[m][0][0]
     per_frame = {m: [statistics.median(ms[m][k]) for k in range(n)] for m in methods}
     med = {m: statistics.median(per_frame[m][k] for k in timed) if n > 1 else per_frame[m][0] for m in methods}
-    return med, per_frame, stats, paired_ratios(ms, methods, timed if n > 1 else range(n))
+    paired_frames = timed if n > 1 else range(n)
+    return med, per_frame, stats, (paired_ratios(ms, methods, paired_frames),
+                                   paired_intervals(ms, methods, paired_frames))
 
 
 def _window(frames, n):
@@ -174,14 +200,16 @@ def run_scenes(scenes, n_frames, repeats, threads, results, *, resolution=None):
         W = _window(P, n_frames)
         print(f"- {name}: {len(F)} triangles, frames {len(P) - len(W)}..{len(P) - 1} of {len(P)} "
               f"(loaded in {gen_s:.1f} s)", file=sys.stderr, flush=True)
-        dcd_med, dcd_pf, dcd_st, dcd_pair = time_sequence(F, W, DCD_METHODS, repeats, threads=threads)
-        ccd_med, ccd_pf, ccd_st, ccd_pair = time_sequence(F, W, CCD_METHODS, repeats, ccd=True, threads=threads)
+        dcd_med, dcd_pf, dcd_st, (dcd_pair, dcd_iv) = time_sequence(F, W, DCD_METHODS, repeats, threads=threads)
+        ccd_med, ccd_pf, ccd_st, (ccd_pair, ccd_iv) = time_sequence(F, W, CCD_METHODS, repeats, ccd=True,
+                                                                    threads=threads)
         # Fig. 11 and Fig. 1 over every frame of the scene: counters only (one pass, untimed).
         _, _, all_dcd, _ = time_sequence(F, _window(P, COUNT_FRAMES), ("aabb", "nc", "aabb+front", "nc+front"), 1,
                                          threads=threads)
         rows.append({"scene": name, "triangles": len(F), "frames": len(P), "window": len(W),
                      "dcd_ms": dcd_med, "ccd_ms": ccd_med, "dcd_ms_per_frame": dcd_pf, "ccd_ms_per_step": ccd_pf,
                      "dcd_paired": dcd_pair, "ccd_paired": ccd_pair,
+                     "dcd_paired_interval": dcd_iv, "ccd_paired_interval": ccd_iv,
                      "dcd_stats": dcd_st, "ccd_stats": ccd_st, "all_frames": all_dcd})
     _fig10_tables(rows, "scene")
     _fig11_table(rows)
@@ -291,6 +319,33 @@ def _fig10_tables(rows, key):
     if any(front_speedups(r, kind)[2] for r in rows for kind in ("dcd", "ccd")):
         print("(paired: the median over the timed frames and passes of the method's time over nc+front's in the "
               "same frame and pass, the two run in turn; the ms columns are medians per frame, then over frames)")
+        print()
+        _interval_lines(rows, key)
+
+
+def _interval_lines(rows, key):
+    """Under Fig. 10: the 95% interval of each paired nc+front vs nc median (median_interval), and
+    the rows where it holds 1.00x: there this run cannot tell which of the two is faster."""
+    for kind, label in (("dcd", "DCD"), ("ccd", "CCD")):
+        if not any(f"{kind}_paired_interval" in r for r in rows):  # a paper.json from before them
+            continue
+        cells, ties, none = [], [], []
+        for r in rows:
+            iv = (r.get(f"{kind}_paired_interval") or {}).get("nc")
+            if iv is None:
+                none.append(r[key])
+                continue
+            cells.append(f"{r[key]} {iv[0]:.3f}-{iv[1]:.3f}")
+            if iv[0] <= 1.0 <= iv[1]:
+                ties.append(r[key])
+        if not cells:
+            print(f"({label} nc+front vs nc: too few pairs on every row for a 95% interval of the paired median; "
+                  "it takes 6, e.g. 3 timed frames and 2 passes)")
+            print()
+            continue
+        tie = f"; holding 1.00x (this run cannot tell which is faster): {', '.join(ties)}" if ties else ""
+        few = f"; too few pairs for one: {', '.join(none)}" if none else ""
+        print(f"({label} nc+front vs nc, 95% interval of the paired median (sign test): {', '.join(cells)}{tie}{few})")
         print()
 
 
@@ -437,9 +492,10 @@ def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
     rows = []
     for name, F, V0, V1, vf_t, ee_t in steps:
         P = np.stack([V0, V1])
-        ccd_med, _, ccd_st, ccd_pair = time_sequence(F, P, CCD_METHODS, repeats + 1, ccd=True, threads=threads)
+        ccd_med, _, ccd_st, (ccd_pair, ccd_iv) = time_sequence(F, P, CCD_METHODS, repeats + 1, ccd=True,
+                                                               threads=threads)
         # DCD at the end pose: frame 0 (V0) is the untimed warm-up, frame 1 (V1) is timed.
-        dcd_med, _, dcd_st, dcd_pair = time_sequence(F, P, DCD_METHODS, repeats, threads=threads)
+        dcd_med, _, dcd_st, (dcd_pair, dcd_iv) = time_sequence(F, P, DCD_METHODS, repeats, threads=threads)
         mesh = conecull.Mesh(F, n_vertices=len(V0))
         res = conecull.SelfCollider(mesh, method="nc", threads=threads).ccd(V0, V1)
         vf, ee = {tuple(r) for r in res.vf.tolist()}, {tuple(r) for r in res.ee.tolist()}
@@ -447,6 +503,7 @@ def run_steps(repeats, threads, results, *, n_triangles=64000, steps=None):
             raise RuntimeError(f"bench all: {name}: exact CCD differs from the ground truth; please report this as a bug")
         rows.append({"scene": name, "triangles": len(F), "dcd_ms": dcd_med, "ccd_ms": ccd_med, "ccd_stats": ccd_st,
                      "dcd_paired": dcd_pair, "ccd_paired": ccd_pair,
+                     "dcd_paired_interval": dcd_iv, "ccd_paired_interval": ccd_iv,
                      "dcd_end_stats": {m: [dcd_st[m][1]] for m in DCD_METHODS},
                      "contacts": len(vf) + len(ee), "ground_truth": vf_t is not None})
     _fig10_tables(rows, "scene")

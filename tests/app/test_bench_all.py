@@ -42,6 +42,8 @@ def test_bench_all_small(tmp_path, capsys):
     assert faster["values"]["vs_nc"]["fold"] == fold["dcd_paired"]["nc"]  # paired (paired_ratios)
     assert faster["values"]["vs_aabb"]["crumple"] == res["scenes"][1]["dcd_paired"]["aabb"]
     assert "vs nc (paired)" in faster["measured"] and "| nc+front vs nc (paired) |" in report
+    # 2 timed frames x 1 pass: too few pairs for an interval on both scenes, and the report says so
+    assert "(DCD nc+front vs nc: too few pairs on every row for a 95% interval" in report
     contour = next(t for name, t in targets.items() if name.startswith("contour test"))
     assert contour["verdict"] in ("met", "not met") and set(contour["values"]["ratios"]) == {"DCD sct", "DCD cbc", "CCD cbc"}
     for name, t in targets.items():
@@ -81,11 +83,46 @@ def test_bench_all_rejects_bad_options(capsys):
 
 def test_time_sequence_times_every_method_and_frame():
     F, P = load("crumple")
-    med, per_frame, stats, paired = time_sequence(F, P[-4:], ("aabb", "nc", "nc+front"), 1)
+    med, per_frame, stats, (paired, intervals) = time_sequence(F, P[-4:], ("aabb", "nc", "nc+front"), 1)
     assert set(med) == {"aabb", "nc", "nc+front"} and len(per_frame["nc"]) == 4
     assert all(len(stats[m]) == 4 and all(s is not None for s in stats[m]) for m in med)
     assert set(paired) == set(med) and paired["nc+front"] == 1.0 and all(v > 0 for v in paired.values())
-    assert time_sequence(F, P[-3:], ("aabb", "nc"), 1)[3] == {}  # nothing to pair with
+    assert set(intervals) == set(med) and all(v is None for v in intervals.values())  # 3 pairs: too few
+    assert time_sequence(F, P[-3:], ("aabb", "nc"), 1)[3] == ({}, {})  # nothing to pair with
+
+
+def test_median_interval_is_the_sign_tests():
+    """Order statistics k and n + 1 - k, k the largest with P(Binomial(n, 1/2) < k) <= 2.5%,
+    checked in rational arithmetic for every n up to 60; None below 6 values."""
+    from fractions import Fraction
+    from math import comb
+
+    from conecull.app.evaluation import median_interval
+
+    for n in range(1, 61):
+        tail = lambda k: sum(Fraction(comb(n, i), 2**n) for i in range(k))  # noqa: E731  P(X < k)
+        k = max((k for k in range(n + 1) if tail(k) <= Fraction(1, 40)), default=0)
+        values = [10 * i + 3 for i in range(n)][::-1]  # given in any order
+        got = median_interval(values)
+        assert got == ((10 * (k - 1) + 3, 10 * (n - k) + 3) if k > 0 else None), n
+        if k > 0:  # it holds the median, with coverage >= 95%
+            assert got[0] <= sorted(values)[n // 2] <= got[1] and 1 - 2 * tail(k) >= Fraction(95, 100)
+    assert median_interval([1.0] * 5) is None and median_interval([1.0] * 6) == (1.0, 1.0)
+
+
+def test_fig10_says_where_the_interval_holds_one(capsys):
+    from conecull.app.evaluation import _interval_lines
+
+    rows = [{"scene": "a", "dcd_paired_interval": {"nc": [1.02, 1.09]}, "ccd_paired_interval": {"nc": [0.97, 1.04]}},
+            {"scene": "b", "dcd_paired_interval": {"nc": [0.95, 1.0]}, "ccd_paired_interval": {"nc": None}}]
+    _interval_lines(rows, "scene")
+    out = capsys.readouterr().out
+    assert "(DCD nc+front vs nc, 95% interval of the paired median (sign test): a 1.020-1.090, b 0.950-1.000; " \
+           "holding 1.00x (this run cannot tell which is faster): b)" in out
+    assert "(CCD nc+front vs nc, 95% interval of the paired median (sign test): a 0.970-1.040; holding 1.00x " \
+           "(this run cannot tell which is faster): a; too few pairs for one: b)" in out
+    _interval_lines([{"scene": "old"}], "scene")  # a paper.json from before: nothing to print
+    assert capsys.readouterr().out == ""
 
 
 def test_paired_ratios_pair_each_frame_and_pass():
