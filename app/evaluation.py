@@ -129,9 +129,15 @@ def paired_ratios(ms, methods, frames, against=PAIRED_AGAINST):
     slow spell of a shared machine that hits one hits the other: the ratio of the two medians
     follows such spells (falling, DCD nc / nc+front, three runs alike: 1.04, 1.06, 1.15x; paired:
     1.064, 1.068, 1.076x). Empty if `against` was not timed."""
+    return {m: statistics.median(r) for m, r in _ratios(ms, methods, frames, against).items()}
+
+
+def _ratios(ms, methods, frames, against):
+    """Per method, its ms over `against`'s, frame by frame and pass by pass ({} if `against` was
+    not timed): what paired_ratios and time_sequence summarise."""
     if against not in methods:
         return {}
-    return {m: statistics.median(a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])) for m in methods}
+    return {m: [a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])] for m in methods}
 
 
 def median_interval(values, level=0.95):
@@ -149,18 +155,11 @@ def median_interval(values, level=0.95):
     return (v[k - 1], v[n - k]) if k > 0 else None
 
 
-def paired_intervals(ms, methods, frames, against=PAIRED_AGAINST):
-    """Per method, median_interval of the ratios paired_ratios takes the median of."""
-    if against not in methods:
-        return {}
-    return {m: median_interval([a / b for k in frames for a, b in zip(ms[m][k], ms[against][k])]) for m in methods}
-
-
 def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmetic="exact", leaf_size=DEFAULT_LEAF_SIZE,
                   suite="all"):
     """Per method, per frame (DCD) or step k -> k + 1 (CCD): median wall ms over `repeats` passes
     and the stats of the last pass; and per method its paired ratio to nc+front and that median's
-    interval (paired_ratios, paired_intervals: over the frames the median covers). Frame / step 0
+    interval (paired_ratios, median_interval: over the frames the median covers). Frame / step 0
     is untimed in every pass (see module doc)."""
     cols = _colliders(F, frames, methods, threads, leaf_size)
     n = len(frames) - 1 if ccd else len(frames)
@@ -174,9 +173,9 @@ def time_sequence(F, frames, methods, repeats, *, ccd=False, threads=1, arithmet
             del ms[m][0][0]
     per_frame = {m: [statistics.median(ms[m][k]) for k in range(n)] for m in methods}
     med = {m: statistics.median(per_frame[m][k] for k in timed) if n > 1 else per_frame[m][0] for m in methods}
-    paired_frames = timed if n > 1 else range(n)
-    return med, per_frame, stats, (paired_ratios(ms, methods, paired_frames),
-                                   paired_intervals(ms, methods, paired_frames))
+    ratios = _ratios(ms, methods, timed if n > 1 else range(n), PAIRED_AGAINST)
+    return med, per_frame, stats, ({m: statistics.median(r) for m, r in ratios.items()},
+                                   {m: median_interval(r) for m, r in ratios.items()})
 
 
 def _window(frames, n):
