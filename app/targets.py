@@ -93,8 +93,28 @@ def _front_faster(scenes, kind):
     faster = lambda v: v > 1.0  # noqa: E731
     (nc_text, nc_ok), (aabb_text, aabb_ok) = _judged(vs_nc, faster, X2, 1.0), _judged(vs_aabb, faster, X2, 1.0)
     how = " (paired)" if all(paired for *_, paired in speedups) else ""
-    return _row(target, f"{_on([r['scene'] for r in scenes])}; vs nc{how} {nc_text}; vs aabb{how} {aabb_text}",
-                _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb))
+    order = _ordered_by_interval(scenes, kind)
+    return _row(target, f"{_on([r['scene'] for r in scenes])}; vs nc{how} {nc_text}{order[0]}; vs aabb{how} {aabb_text}",
+                _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb), vs_nc_by_interval=order[1])
+
+
+def _ordered_by_interval(scenes, kind):
+    """What the run can tell of nc+front against nc per scene, from the sign test's 95% interval
+    of the paired median (evaluation.median_interval): faster (the interval above 1.00x), slower
+    (below) or a tie (it holds 1.00x: within this run's noise). ('', {}) for rows without
+    intervals (a paper.json from before them, or too few pairs)."""
+    groups = {"faster": [], "tie": [], "slower": []}
+    for r in scenes:
+        iv = (r.get(f"{kind}_paired_interval") or {}).get("nc")
+        if iv is None:
+            continue
+        lo, hi = iv
+        groups["faster" if lo > 1.0 else "slower" if hi < 1.0 else "tie"].append(r["scene"])
+    if not any(groups.values()):
+        return "", {}
+    said = "; ".join(f"{k} on {', '.join(v)}" if v else f"{k} on none" for k, v in
+                     (("faster", groups["faster"]), ("tie", groups["tie"]), ("slower", groups["slower"])))
+    return f" (by the 95% interval of the paired median: {said})", groups
 
 
 def _front_share(scenes, key, label):

@@ -46,6 +46,26 @@ def test_front_faster_judges_the_paired_ratios_when_a_row_has_them():
     assert mixed["values"]["vs_nc"] == {"a": 0.99, "b": 1.25} and "(paired)" not in mixed["measured"]
 
 
+def test_front_faster_says_which_scenes_the_interval_can_order():
+    """With the sign test's intervals (evaluation.median_interval), the row says per scene whether
+    nc+front is faster than nc beyond this run's noise (interval above 1.00x), slower (below) or a
+    tie (it holds 1.00x); the verdict is still the paired median's."""
+    def row(name, nc, interval):
+        return _scene(name, (10, 5, 4), (10, 5, 4)) | {"dcd_paired": {"aabb": 2.0, "nc": nc, "nc+front": 1.0},
+                                                       "dcd_paired_interval": {"aabb": [1.9, 2.1], "nc": interval}}
+    scenes = [row("a", 1.05, [1.02, 1.09]), row("b", 0.98, [0.95, 1.07]), row("c", 0.90, [0.85, 0.97]),
+              row("d", 1.01, None)]  # d: too few pairs for an interval
+    dcd = judge({"scenes": scenes})[0]
+    assert dcd["verdict"] == "not met"
+    assert dcd["values"]["vs_nc_by_interval"] == {"faster": ["a"], "tie": ["b"], "slower": ["c"]}
+    assert "(by the 95% interval of the paired median: faster on a; tie on b; slower on c)" in dcd["measured"]
+    ties = judge({"scenes": [row("a", 1.01, [0.99, 1.04]), row("b", 1.02, [1.0, 1.05])]})[0]
+    assert ties["verdict"] == "met" and ties["values"]["vs_nc_by_interval"]["tie"] == ["a", "b"]
+    assert "faster on none; tie on a, b; slower on none" in ties["measured"]
+    old = judge({"scenes": [_scene("a", (10, 5, 4), (10, 5, 4))]})[0]  # a paper.json from before intervals
+    assert "95% interval" not in old["measured"] and old["values"]["vs_nc_by_interval"] == {}
+
+
 @pytest.mark.parametrize("ratio, verdict", [(0.40, "met"), (0.4001, "not met"), (0.05, "met")])
 def test_front_share_threshold_is_inclusive(ratio, verdict):
     rows = judge({"scenes": [_scene("a", (3, 2, 1), (3, 2, 1), front=0.1), _scene("b", (3, 2, 1), (3, 2, 1), front=ratio)]})
