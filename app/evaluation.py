@@ -40,7 +40,7 @@ import numpy as np
 import conecull
 from conecull._api import DEFAULT_LEAF_SIZE
 from conecull.app.bench import _disagree, _same_answer, _size_label, shared_steps
-from conecull.app.targets import front_speedups, judge, print_targets
+from conecull.app.targets import front_speedups, interval_side, judge, print_targets
 from conecull.datasets.checks import memory_bytes
 
 PAPER_SCENES = ("funnel", "twisting", "flowing", "falling", "flamenco", "squishy")
@@ -335,7 +335,7 @@ def _interval_lines(rows, key):
                 none.append(r[key])
                 continue
             cells.append(f"{r[key]} {iv[0]:.3f}-{iv[1]:.3f}")
-            if iv[0] <= 1.0 <= iv[1]:
+            if interval_side(iv) == "tie":
                 ties.append(r[key])
         if not cells:
             print(f"({label} nc+front vs nc: too few pairs on every row for a 95% interval of the paired median; "

@@ -98,6 +98,13 @@ def _front_faster(scenes, kind):
                 _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb), vs_nc_by_interval=order[1])
 
 
+def interval_side(interval):
+    """Where a 95% interval (lo, hi) of a paired speed-up lies against 1.00x: "faster" (above),
+    "slower" (below) or "tie" (it holds 1.00x: the run cannot tell which is faster)."""
+    lo, hi = interval
+    return "faster" if lo > 1.0 else "slower" if hi < 1.0 else "tie"
+
+
 def _ordered_by_interval(scenes, kind):
     """What the run can tell of nc+front against nc per scene, from the sign test's 95% interval
     of the paired median (evaluation.median_interval): faster (the interval above 1.00x), slower
@@ -106,10 +113,8 @@ def _ordered_by_interval(scenes, kind):
     groups = {"faster": [], "tie": [], "slower": []}
     for r in scenes:
         iv = (r.get(f"{kind}_paired_interval") or {}).get("nc")
-        if iv is None:
-            continue
-        lo, hi = iv
-        groups["faster" if lo > 1.0 else "slower" if hi < 1.0 else "tie"].append(r["scene"])
+        if iv is not None:
+            groups[interval_side(iv)].append(r["scene"])
     if not any(groups.values()):
         return "", {}
     said = "; ".join(f"{k} on {', '.join(v)}" if v else f"{k} on none" for k, v in
