@@ -93,9 +93,9 @@ def _front_faster(scenes, kind):
     faster = lambda v: v > 1.0  # noqa: E731
     (nc_text, nc_ok), (aabb_text, aabb_ok) = _judged(vs_nc, faster, X2, 1.0), _judged(vs_aabb, faster, X2, 1.0)
     how = " (paired)" if all(paired for *_, paired in speedups) else ""
-    order = _ordered_by_interval(scenes, kind)
-    return _row(target, f"{_on([r['scene'] for r in scenes])}; vs nc{how} {nc_text}{order[0]}; vs aabb{how} {aabb_text}",
-                _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb), vs_nc_by_interval=order[1])
+    said, by_interval = _ordered_by_interval(scenes, kind)
+    return _row(target, f"{_on([r['scene'] for r in scenes])}; vs nc{how} {nc_text}{said}; vs aabb{how} {aabb_text}",
+                _verdict(nc_ok and aabb_ok), vs_nc=dict(vs_nc), vs_aabb=dict(vs_aabb), vs_nc_by_interval=by_interval)
 
 
 def interval_side(interval):
@@ -117,8 +117,7 @@ def _ordered_by_interval(scenes, kind):
             groups[interval_side(iv)].append(r["scene"])
     if not any(groups.values()):
         return "", {}
-    said = "; ".join(f"{k} on {', '.join(v)}" if v else f"{k} on none" for k, v in
-                     (("faster", groups["faster"]), ("tie", groups["tie"]), ("slower", groups["slower"])))
+    said = "; ".join(f"{side} on {', '.join(names) or 'none'}" for side, names in groups.items())
     return f" (by the 95% interval of the paired median: {said})", groups
 
 
